@@ -1,0 +1,135 @@
+/* sig_types.h - shared types, status codes and saturating fixed-point helpers.
+ *
+ * Portable C99 for hosts, MSP430 (clang) and 8051 (sdcc).  `int` is 16 bits
+ * on both MCUs: every width here is explicit.  No libc beyond stdint/stddef/
+ * stdbool.  No undefined behaviour: signed overflow is avoided by testing
+ * before adding, and negative values are never shifted (sig_asr32 floors a
+ * right shift without shifting a negative number).
+ *
+ * Q formats used across the library (Qm.n: n fractional bits):
+ *   Q16.16  int32_t, value = raw / 65536, range [-32768, 32768)
+ *   Q0.15   int16_t, value = raw / 32768, range [-1, 1)
+ * Each module documents its own Q formats next to its state struct.
+ */
+#ifndef SIG_TYPES_H
+#define SIG_TYPES_H
+
+#include <stdint.h>
+#include <stddef.h>
+#include <stdbool.h>
+
+/* Floating-point type of the float builds.  Firmware uses float (the MCUs
+ * have no double helpers; sdcc's double is float).  The host Python build
+ * defines SIG_REAL_DOUBLE so numpy float64 arrays pass through unconverted. */
+#ifdef SIG_REAL_DOUBLE
+typedef double sig_real;
+#define SIG_REAL(x) (x)
+#else
+typedef float sig_real;
+#define SIG_REAL(x) (x##f)
+#endif
+
+/* Status codes: 0 is success, positive values are warnings whose result is
+ * still valid (bit flags, may be OR-ed), negative values are errors that left
+ * the caller's state unchanged. */
+typedef int16_t sig_status;
+#define SIG_OK              ((sig_status)0)
+#define SIG_WARN_CLAMPED    ((sig_status)1)   /* input clamped to its valid range */
+#define SIG_WARN_SATURATED  ((sig_status)2)   /* output saturated at its rail */
+#define SIG_WARN_REJECTED   ((sig_status)4)   /* sample rejected (impulse / non-finite) */
+#define SIG_ERR_ARG         ((sig_status)-1)  /* NULL pointer or parameter out of range */
+#define SIG_ERR_NONFINITE   ((sig_status)-2)  /* NaN or inf where a finite value is needed */
+#define SIG_ERR_FORMAT      ((sig_status)-3)  /* malformed data (image magic, version, size) */
+#define SIG_ERR_CRC         ((sig_status)-4)  /* checksum mismatch */
+#define SIG_ERR_EMPTY       ((sig_status)-5)  /* nothing valid to load / no data yet */
+
+#define SIG_Q16_ONE INT32_C(65536)
+
+/* ---- saturating 32-bit arithmetic ---------------------------------------- */
+
+static inline int32_t sig_sat_add32(int32_t a, int32_t b)
+{
+    if (b > 0 && a > INT32_MAX - b) return INT32_MAX;
+    if (b < 0 && a < INT32_MIN - b) return INT32_MIN;
+    return a + b;
+}
+
+static inline int32_t sig_sat_sub32(int32_t a, int32_t b)
+{
+    if (b < 0 && a > INT32_MAX + b) return INT32_MAX;
+    if (b > 0 && a < INT32_MIN + b) return INT32_MIN;
+    return a - b;
+}
+
+static inline int16_t sig_sat16(int32_t x)
+{
+    if (x > INT16_MAX) return INT16_MAX;
+    if (x < INT16_MIN) return INT16_MIN;
+    return (int16_t)x;
+}
+
+static inline int32_t sig_abs32_sat(int32_t x)
+{
+    return x == INT32_MIN ? INT32_MAX : (x < 0 ? -x : x);
+}
+
+/* floor(x / 2^n) for 0 <= n <= 31, without right-shifting a negative value
+ * (implementation-defined in C99): ~x is non-negative when x is negative. */
+static inline int32_t sig_asr32(int32_t x, uint8_t n)
+{
+    return x >= 0 ? (int32_t)(x >> n) : (int32_t)~((~x) >> n);
+}
+
+/* x * 2^n saturated to int32, 0 <= n <= 31, without shifting a negative. */
+static inline int32_t sig_shl32_sat(int32_t x, uint8_t n)
+{
+    uint32_t mag;
+    if (n == 0 || x == 0) return x;
+    if (x > 0) {
+        mag = (uint32_t)x;
+        if (mag > ((uint32_t)INT32_MAX >> n)) return INT32_MAX;
+        return (int32_t)(mag << n);
+    }
+    mag = (uint32_t)0 - (uint32_t)x;            /* |x|, exact for INT32_MIN */
+    if (mag > ((UINT32_C(0x80000000)) >> n)) return INT32_MIN;
+    mag <<= n;
+    return mag == UINT32_C(0x80000000) ? INT32_MIN : -(int32_t)mag;
+}
+
+/* floor(a * b / 2^16), saturated to int32, with 32-bit arithmetic only
+ * (no int64: sdcc's 64-bit multiply costs ~800k clocks on an 8051).
+ * Identical to (int32_t)sat(((int64_t)a * b) >> 16) for all inputs. */
+static inline int32_t sig_mul_q16_sat(int32_t a, int32_t b)
+{
+    /* |a|*|b| = (ah*2^16 + al)(bh*2^16 + bl) on magnitudes, then sign. */
+    bool neg = (a < 0) != (b < 0);
+    uint32_t ua = a < 0 ? (uint32_t)0 - (uint32_t)a : (uint32_t)a;
+    uint32_t ub = b < 0 ? (uint32_t)0 - (uint32_t)b : (uint32_t)b;
+    uint32_t ah = ua >> 16, al = ua & 0xFFFFu, bh = ub >> 16, bl = ub & 0xFFFFu;
+    uint32_t hh, mid1, mid2, ll, lo16, hi;   /* full product = hi*2^16 + lo16 */
+    uint32_t limit = neg ? UINT32_C(0x80000000) : UINT32_C(0x7FFFFFFF);
+
+    hh = ah * bh;                              /* weight 2^32 */
+    if (hh > 0xFFFFu) return neg ? INT32_MIN : INT32_MAX;
+    mid1 = ah * bl;                            /* weight 2^16 */
+    mid2 = al * bh;
+    ll = al * bl;                              /* weight 1 */
+    lo16 = ll & 0xFFFFu;
+    hi = ll >> 16;                             /* product >> 16, built up with overflow checks */
+    if (mid1 > UINT32_MAX - hi) return neg ? INT32_MIN : INT32_MAX;
+    hi += mid1;
+    if (mid2 > UINT32_MAX - hi) return neg ? INT32_MIN : INT32_MAX;
+    hi += mid2;
+    if ((hh << 16) > UINT32_MAX - hi) return neg ? INT32_MIN : INT32_MAX;
+    hi += hh << 16;
+    if (!neg) return hi > limit ? INT32_MAX : (int32_t)hi;
+    /* negative: floor(-(hi*2^16 + lo16) / 2^16) = -hi - (lo16 != 0) */
+    if (lo16 != 0u) {
+        if (hi >= limit) return INT32_MIN;
+        hi += 1u;
+    }
+    if (hi > limit) return INT32_MIN;
+    return hi == limit ? INT32_MIN : -(int32_t)hi;
+}
+
+#endif /* SIG_TYPES_H */

@@ -1,0 +1,106 @@
+"""Least-squares polynomial fitting shared by every calibration in pysig:
+temperature compensation (offset f(T), gain drift), weighing (counts -> kg)
+and the refinement loop.  One copy of the solver, used by all.
+
+The fit runs on a centred and scaled abscissa u = (x - center) / scale, which
+keeps the Vandermonde matrix well conditioned, and solves it with numpy's
+SVD-based least squares.  `fit_normal_equations` is the textbook form
+(C^T C a = C^T y) of the magnetometer paper, kept to show how much worse it
+conditions."""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import InsufficientDataError, NonFiniteError
+
+
+@dataclass(frozen=True)
+class PolyFit:
+    """y ~ sum_k coef[k] * u**k with u = (x - center) / scale."""
+    coef: np.ndarray          # ascending powers of u
+    center: float
+    scale: float
+    rms: float                # in-sample residual RMS
+    cond: float               # condition number of the scaled design matrix
+
+    @property
+    def order(self):
+        return len(self.coef) - 1
+
+    def __call__(self, x):
+        u = (np.asarray(x, dtype=float) - self.center) / self.scale
+        return np.polynomial.polynomial.polyval(u, self.coef)
+
+    def raw_coefficients(self):
+        """Coefficients in ascending powers of x itself (un-scaled); worse
+        conditioned, for users who want the paper's form."""
+        p = np.polynomial.Polynomial(self.coef, domain=[self.center - self.scale, self.center + self.scale],
+                                     window=[-1, 1])
+        return p.convert().coef
+
+
+def _check(x, y, order, what):
+    x = np.asarray(x, dtype=float).ravel()
+    y = np.asarray(y, dtype=float).ravel()
+    if x.shape != y.shape:
+        raise ValueError(f"{what}: x and y differ in length ({x.size} vs {y.size})")
+    for name, arr in (("x", x), ("y", y)):
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            raise NonFiniteError(f"{what}: non-finite {name} at index {int(bad[0])}")
+    if not (isinstance(order, (int, np.integer)) and order >= 0):
+        raise ValueError(f"{what}: order must be a non-negative integer, got {order!r}")
+    distinct = np.unique(x).size
+    if distinct < order + 1:
+        raise InsufficientDataError(
+            f"{what}: order {order} needs at least {order + 1} distinct x values, "
+            f"the data has {distinct}")
+    return x, y
+
+
+def center_scale(x):
+    """Centre at the middle of the range, scale to half the span (u in [-1, 1])."""
+    lo, hi = float(np.min(x)), float(np.max(x))
+    scale = (hi - lo) / 2.0
+    return (hi + lo) / 2.0, (scale if scale > 0 else 1.0)
+
+
+def fit_poly(x, y, order, center=None, scale=None, weights=None, what="fit"):
+    """Least-squares polynomial of `order` (SVD solver, centred/scaled x)."""
+    x, y = _check(x, y, order, what)
+    c0, s0 = center_scale(x)
+    center = c0 if center is None else float(center)
+    scale = s0 if scale is None else float(scale)
+    u = (x - center) / scale
+    design = np.vander(u, order + 1, increasing=True)
+    if weights is not None:
+        w = np.sqrt(np.asarray(weights, dtype=float))
+        coef = np.linalg.lstsq(design * w[:, None], y * w, rcond=None)[0]
+    else:
+        coef = np.linalg.lstsq(design, y, rcond=None)[0]
+    resid = y - design @ coef
+    return PolyFit(coef=coef, center=center, scale=scale,
+                   rms=float(np.sqrt(np.mean(resid ** 2))), cond=float(np.linalg.cond(design)))
+
+
+def fit_normal_equations(x, y, order, what="fit"):
+    """The paper's form: solve (C^T C) a = C^T y on the raw (unscaled) x.
+    Returns (coef ascending in x, condition number of C^T C)."""
+    x, y = _check(x, y, order, what)
+    design = np.vander(x, order + 1, increasing=True)
+    gram = design.T @ design
+    return np.linalg.solve(gram, design.T @ y), float(np.linalg.cond(gram))
+
+
+def fit_linear_model(design, y, what="fit"):
+    """General linear least squares y ~ design @ beta (the refinement loop's
+    candidate effects are columns of `design`).  Returns (beta, residual)."""
+    design = np.asarray(design, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if not np.all(np.isfinite(design)) or not np.all(np.isfinite(y)):
+        raise NonFiniteError(f"{what}: non-finite value in the regressors or the target")
+    if design.shape[0] < design.shape[1]:
+        raise InsufficientDataError(
+            f"{what}: {design.shape[1]} parameters need at least as many samples, got {design.shape[0]}")
+    beta = np.linalg.lstsq(design, y, rcond=None)[0]
+    return beta, y - design @ beta

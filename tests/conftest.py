@@ -1,0 +1,37 @@
+"""Shared test helpers.
+
+Tests that need an external tool (a cross compiler, a simulator, clang's
+fuzzer runtime) skip on a developer machine that lacks it, but FAIL in CI
+(CI=true), where .ci/run installs every tool: a green CI run has really run
+them."""
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+CSRC = ROOT / "csrc"
+SHARED_DATA = ROOT.parent / "shared" / "data"
+
+
+def require_tool(*names):
+    """Return the path of the first tool found; skip (or fail in CI) if none."""
+    for name in names:
+        path = shutil.which(name)
+        if path:
+            return path
+    msg = f"none of {', '.join(names)} is installed"
+    if os.environ.get("CI"):
+        pytest.fail(msg + " (CI must install it: see .ci/run)")
+    pytest.skip(msg)
+
+
+def require_shared_data(relpath):
+    """A recording from ../shared/data; skip outside the workplace layout, fail in CI."""
+    path = SHARED_DATA / relpath
+    if not path.exists():
+        if os.environ.get("CI"):
+            pytest.fail(f"{path} missing in CI")
+        pytest.skip(f"{path} not present")
+    return path
