@@ -1,0 +1,34 @@
+"""The plain-C unit tests (tests/c/test_*.c, no Python) under AddressSanitizer
+and UndefinedBehaviorSanitizer, with no recovery: each test is compiled with
+all of csrc/*.c, in the firmware's float form and in the host's double form,
+and must exit 0 with no sanitizer report."""
+import os
+import subprocess
+
+import pytest
+
+from conftest import CSRC, ROOT, require_tool
+
+TESTS_C = ROOT / "tests" / "c"
+UNIT_TESTS = sorted(TESTS_C.glob("test_*.c"))
+FLAGS = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-g", "-O1",
+         "-fsanitize=address,undefined", "-fno-sanitize-recover=all", "-fno-omit-frame-pointer"]
+
+
+@pytest.mark.parametrize("real", ["float", "double"])
+@pytest.mark.parametrize("src", UNIT_TESTS, ids=lambda p: p.stem)
+def test_c_unit_under_sanitizers(src, real, tmp_path):
+    cc = require_tool("gcc", "clang-14", "clang")
+    exe = tmp_path / src.stem
+    defs = ["-DSIG_REAL_DOUBLE"] if real == "double" else []
+    cmd = [cc, *FLAGS, *defs, "-I", str(CSRC), "-I", str(TESTS_C), str(src),
+           *map(str, sorted(CSRC.glob("*.c"))), "-lm", "-o", str(exe)]
+    res = subprocess.run(cmd, capture_output=True, text=True)
+    assert res.returncode == 0, " ".join(cmd) + "\n" + res.stdout + res.stderr
+    env = dict(os.environ, ASAN_OPTIONS="detect_leaks=1:abort_on_error=0",
+               UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1")
+    run = subprocess.run([str(exe)], capture_output=True, text=True, env=env, timeout=300)
+    out = run.stdout + run.stderr
+    print(out)
+    assert run.returncode == 0 and "runtime error" not in out and "Sanitizer" not in out, out
+    assert " 0 failed" in run.stdout, out
