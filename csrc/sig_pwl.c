@@ -1,0 +1,117 @@
+/* sig_pwl.c - piecewise-linear lookup table with uniform knots (see sig_pwl.h). */
+#include "sig_pwl.h"
+
+#define PWL_FRAC_MASK ((uint32_t)((UINT32_C(1) << SIG_PWL_FRAC_BITS) - 1u))
+
+/* Segment position (Q20.12) of an offset d from t_lo. */
+static uint32_t pwl_position(uint16_t d, uint16_t recip, uint8_t shift)
+{
+    return ((uint32_t)d * (uint32_t)recip) >> shift;
+}
+
+sig_status sig_pwl_init_q16(sig_pwl_q16 *p, const int16_t *table, uint8_t n_knots,
+                            int16_t t_lo, int16_t t_hi, uint16_t recip, uint8_t shift,
+                            uint8_t value_frac)
+{
+    uint32_t end_pos;
+    if (p == NULL || table == NULL) return SIG_ERR_ARG;
+    if (n_knots < SIG_PWL_MIN_KNOTS || t_hi <= t_lo || recip == 0u || shift > 31u
+        || value_frac > 15u) return SIG_ERR_ARG;
+    end_pos = pwl_position((uint16_t)((int32_t)t_hi - (int32_t)t_lo), recip, shift);
+    if ((end_pos >> SIG_PWL_FRAC_BITS) < (uint32_t)(n_knots - 2u)
+        || end_pos > ((uint32_t)(n_knots - 1u) << SIG_PWL_FRAC_BITS)) return SIG_ERR_ARG;
+    p->table = table;
+    p->t_lo = t_lo;
+    p->t_hi = t_hi;
+    p->recip = recip;
+    p->shift = shift;
+    p->n_knots = n_knots;
+    p->value_frac = value_frac;
+    return SIG_OK;
+}
+
+sig_status sig_pwl_eval_q16(const sig_pwl_q16 *p, int16_t t, int32_t *out_q16)
+{
+    sig_status st = SIG_OK;
+    uint32_t pos, seg;
+    int32_t acc, lo;
+    if (p == NULL || out_q16 == NULL || p->table == NULL) return SIG_ERR_ARG;
+    if (t < p->t_lo) {
+        t = p->t_lo;
+        st = SIG_WARN_CLAMPED;
+    } else if (t > p->t_hi) {
+        t = p->t_hi;
+        st = SIG_WARN_CLAMPED;
+    }
+    pos = pwl_position((uint16_t)((int32_t)t - (int32_t)p->t_lo), p->recip, p->shift);
+    seg = pos >> SIG_PWL_FRAC_BITS;
+    if (seg >= (uint32_t)(p->n_knots - 1u)) {
+        /* exactly on (or, by the reciprocal's rounding, a hair past) the last knot */
+        acc = (int32_t)p->table[p->n_knots - 1u] * (INT32_C(1) << SIG_PWL_FRAC_BITS);
+    } else {
+        lo = p->table[seg];
+        acc = lo * (INT32_C(1) << SIG_PWL_FRAC_BITS)
+            + ((int32_t)p->table[seg + 1u] - lo) * (int32_t)(pos & PWL_FRAC_MASK);
+    }
+    /* acc has value_frac + 12 fraction bits; Q16.16 wants 16. */
+    if (p->value_frac >= 4u) {
+        *out_q16 = sig_asr32(acc, (uint8_t)(p->value_frac - 4u));
+    } else {
+        *out_q16 = sig_shl32_sat(acc, (uint8_t)(4u - p->value_frac));
+    }
+    return st;
+}
+
+static bool pwl_finite(sig_real x)
+{
+    /* NaN fails the comparison; inf exceeds the largest finite value. */
+    return x == x && x - x == SIG_REAL(0.0);
+}
+
+sig_status sig_pwl_init_f(sig_pwl_f *p, const sig_real *table, uint8_t n_knots,
+                          sig_real t_lo, sig_real t_hi, sig_real inv_step)
+{
+    uint8_t k;
+    sig_real end_pos;
+    if (p == NULL || table == NULL) return SIG_ERR_ARG;
+    if (n_knots < SIG_PWL_MIN_KNOTS || !pwl_finite(t_lo) || !pwl_finite(t_hi)
+        || !pwl_finite(inv_step) || !(t_hi > t_lo) || !(inv_step > SIG_REAL(0.0)))
+        return SIG_ERR_ARG;
+    end_pos = (t_hi - t_lo) * inv_step;
+    if (!pwl_finite(end_pos) || end_pos < (sig_real)(n_knots - 2u)
+        || end_pos > (sig_real)(n_knots - 1u) * SIG_REAL(1.0001)) return SIG_ERR_ARG;
+    for (k = 0u; k < n_knots; ++k) {
+        if (!pwl_finite(table[k])) return SIG_ERR_NONFINITE;
+    }
+    p->table = table;
+    p->t_lo = t_lo;
+    p->t_hi = t_hi;
+    p->inv_step = inv_step;
+    p->n_knots = n_knots;
+    return SIG_OK;
+}
+
+sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out)
+{
+    sig_status st = SIG_OK;
+    sig_real pos, lo;
+    int32_t seg;
+    if (p == NULL || out == NULL || p->table == NULL) return SIG_ERR_ARG;
+    if (!(t < p->t_lo) && !(t >= p->t_lo)) return SIG_ERR_NONFINITE;   /* NaN */
+    if (t < p->t_lo) {
+        t = p->t_lo;
+        st = SIG_WARN_CLAMPED;
+    } else if (t > p->t_hi) {
+        t = p->t_hi;
+        st = SIG_WARN_CLAMPED;
+    }
+    pos = (t - p->t_lo) * p->inv_step;
+    seg = (int32_t)pos;                      /* pos >= 0: truncation is floor */
+    if (seg >= (int32_t)(p->n_knots - 1u)) {
+        *out = p->table[p->n_knots - 1u];
+    } else {
+        lo = p->table[seg];
+        *out = lo + (pos - (sig_real)seg) * (p->table[seg + 1] - lo);
+    }
+    return st;
+}

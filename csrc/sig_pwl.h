@@ -1,0 +1,79 @@
+/* sig_pwl.h - piecewise-linear lookup table with uniform knots.
+ *
+ * The on-board alternative to a polynomial for a drift curve f(T) (the
+ * MatrixPilot firmware stores its gyro offsets this way): n knot values at
+ * uniformly spaced temperatures, linear interpolation between them, flat
+ * (and flagged SIG_WARN_CLAMPED) outside [t_lo, t_hi].  No division on the
+ * hot path: the segment position comes from one multiply by a precomputed
+ * reciprocal and a shift.
+ *
+ * Fixed-point form (sig_pwl_q16):
+ *   temperature   int16_t, the unit of the temperature-compensation module
+ *                 (sig_tcomp.h); the table only needs it to be linear in T.
+ *   d             t - t_lo after clamping to [t_lo, t_hi], 0 <= d <= 65535.
+ *   position      pos = (d * recip) >> shift, unsigned Q20.12 segment
+ *                 position: segment index = pos >> 12, fraction = pos & 0xFFF.
+ *                 Knot k therefore sits at d_k = k * 4096 * 2^shift / recip
+ *                 (a real number): the knots are uniform by construction.
+ *   table         int16_t entries, value = entry * 2^-value_frac
+ *                 (0 <= value_frac <= 15), one per knot.
+ *   interpolation acc = (table[i] << 12) + (table[i+1] - table[i]) * frac,
+ *                 int32, |acc| < 2^28, unit 2^-(value_frac + 12).
+ *   output        int32_t Q16.16: acc rescaled by a floor shift
+ *                 (sig_asr32) or a saturating left shift.
+ * All products are 32-bit (no int64); nothing overflows for any input.
+ *
+ * Float form (sig_pwl_f): the same table in sig_real, temperature in any
+ * linear unit (°C in pysig), pos = (t - t_lo) * inv_step.
+ */
+#ifndef SIG_PWL_H
+#define SIG_PWL_H
+
+#include "sig_types.h"
+
+#define SIG_PWL_FRAC_BITS 12       /* fraction bits of the segment position */
+#define SIG_PWL_MIN_KNOTS 2u
+#define SIG_PWL_MAX_KNOTS 255u
+
+typedef struct {
+    const int16_t *table;  /* n_knots entries, caller-owned, value = entry * 2^-value_frac */
+    int16_t t_lo;          /* temperature of knot 0 and lower end of the valid range */
+    int16_t t_hi;          /* upper end of the valid range (> t_lo) */
+    uint16_t recip;        /* segment position per temperature unit, Q(12 + shift) */
+    uint8_t shift;         /* 0..31 */
+    uint8_t n_knots;       /* 2..255 */
+    uint8_t value_frac;    /* 0..15 */
+} sig_pwl_q16;
+
+typedef struct {
+    const sig_real *table; /* n_knots entries, caller-owned */
+    sig_real t_lo;         /* temperature of knot 0 */
+    sig_real t_hi;         /* upper end of the valid range (> t_lo) */
+    sig_real inv_step;     /* 1 / knot spacing (> 0) */
+    uint8_t n_knots;       /* 2..255 */
+} sig_pwl_f;
+
+/* Checks and stores the parameters.  SIG_ERR_ARG (and *p untouched) for a
+ * NULL pointer, n_knots outside 2..255, t_hi <= t_lo, recip == 0, shift > 31,
+ * value_frac > 15, or a position mapping under which [t_lo, t_hi] does not
+ * end in the last segment ((span * recip) >> shift must lie in
+ * [(n_knots - 2) << 12, (n_knots - 1) << 12]). */
+sig_status sig_pwl_init_q16(sig_pwl_q16 *p, const int16_t *table, uint8_t n_knots,
+                            int16_t t_lo, int16_t t_hi, uint16_t recip, uint8_t shift,
+                            uint8_t value_frac);
+
+/* f(t) in Q16.16.  SIG_WARN_CLAMPED when t was outside [t_lo, t_hi] (the
+ * value at the nearer end is returned); SIG_ERR_ARG for NULL pointers. */
+sig_status sig_pwl_eval_q16(const sig_pwl_q16 *p, int16_t t, int32_t *out_q16);
+
+/* SIG_ERR_ARG for a NULL pointer, n_knots outside 2..255, a non-finite or
+ * empty range, inv_step <= 0 or a range not ending in the last segment;
+ * SIG_ERR_NONFINITE for a non-finite table entry. */
+sig_status sig_pwl_init_f(sig_pwl_f *p, const sig_real *table, uint8_t n_knots,
+                          sig_real t_lo, sig_real t_hi, sig_real inv_step);
+
+/* f(t); SIG_WARN_CLAMPED outside [t_lo, t_hi]; SIG_ERR_NONFINITE for a NaN
+ * temperature (*out untouched). */
+sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out);
+
+#endif /* SIG_PWL_H */

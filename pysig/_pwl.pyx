@@ -1,0 +1,86 @@
+# cython: language_level=3
+"""Cython bridge to csrc/sig_pwl.c: evaluate a piecewise-linear table over a
+numpy array of temperatures with the very C code the firmware runs."""
+import numpy as np
+cimport numpy as cnp
+from libc.stdint cimport int16_t, int32_t, uint8_t, uint16_t
+from libc.math cimport NAN
+
+from .errors import RangeError, NonFiniteError
+
+cnp.import_array()
+
+cdef extern from "sig_types.h":
+    ctypedef double sig_real
+    ctypedef int16_t sig_status
+
+cdef extern from "sig_pwl.h":
+    ctypedef struct sig_pwl_q16:
+        pass
+    ctypedef struct sig_pwl_f:
+        pass
+    sig_status sig_pwl_init_q16(sig_pwl_q16 *p, const int16_t *table, uint8_t n_knots,
+                                int16_t t_lo, int16_t t_hi, uint16_t recip, uint8_t shift,
+                                uint8_t value_frac)
+    sig_status sig_pwl_eval_q16(const sig_pwl_q16 *p, int16_t t, int32_t *out_q16) nogil
+    sig_status sig_pwl_init_f(sig_pwl_f *p, const sig_real *table, uint8_t n_knots,
+                              sig_real t_lo, sig_real t_hi, sig_real inv_step)
+    sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out) nogil
+
+
+def eval_q16(table, int t_lo, int t_hi, int recip, int shift, int value_frac, t):
+    """C sig_pwl_eval_q16 over int16 temperatures `t`.
+
+    Returns (values int32 Q16.16, status int16 per element).  Raises
+    RangeError when sig_pwl_init_q16 rejects the parameters."""
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] tab = np.ascontiguousarray(table, dtype=np.int16)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] temps = np.ascontiguousarray(np.ravel(t), dtype=np.int16)
+    cdef Py_ssize_t n = temps.shape[0], i
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.empty(n, dtype=np.int32)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] status = np.empty(n, dtype=np.int16)
+    cdef sig_pwl_q16 p
+    cdef int32_t y
+    if tab.shape[0] > 255 or not (-32768 <= t_lo <= 32767 and -32768 <= t_hi <= 32767
+                                  and 0 <= recip <= 65535 and 0 <= shift <= 255
+                                  and 0 <= value_frac <= 255):
+        raise RangeError("pwl: table or parameters out of their C types' range")
+    if tab.shape[0] == 0 or sig_pwl_init_q16(&p, &tab[0], <uint8_t>tab.shape[0], <int16_t>t_lo,
+                                             <int16_t>t_hi, <uint16_t>recip, <uint8_t>shift,
+                                             <uint8_t>value_frac) != 0:
+        raise RangeError(f"pwl: sig_pwl_init_q16 rejected n_knots={tab.shape[0]}, t_lo={t_lo}, "
+                         f"t_hi={t_hi}, recip={recip}, shift={shift}, value_frac={value_frac}")
+    with nogil:
+        for i in range(n):
+            y = 0
+            status[i] = sig_pwl_eval_q16(&p, temps[i], &y)
+            out[i] = y
+    return out, status
+
+
+def eval_f(table, double t_lo, double t_hi, double inv_step, t):
+    """C sig_pwl_eval_f (host build: sig_real = double) over float temperatures.
+
+    Returns (values float64, status int16); NaN temperatures give status -2
+    and a NaN value."""
+    cdef cnp.ndarray[cnp.float64_t, ndim=1] tab = np.ascontiguousarray(table, dtype=np.float64)
+    cdef cnp.ndarray[cnp.float64_t, ndim=1] temps = np.ascontiguousarray(np.ravel(t), dtype=np.float64)
+    cdef Py_ssize_t n = temps.shape[0], i
+    cdef cnp.ndarray[cnp.float64_t, ndim=1] out = np.empty(n, dtype=np.float64)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] status = np.empty(n, dtype=np.int16)
+    cdef sig_pwl_f p
+    cdef sig_status st
+    cdef double y
+    if tab.shape[0] == 0 or tab.shape[0] > 255:
+        raise RangeError(f"pwl: {tab.shape[0]} knots, the C table takes 2..255")
+    st = sig_pwl_init_f(&p, &tab[0], <uint8_t>tab.shape[0], t_lo, t_hi, inv_step)
+    if st == -2:
+        raise NonFiniteError("pwl: non-finite table entry")
+    if st != 0:
+        raise RangeError(f"pwl: sig_pwl_init_f rejected n_knots={tab.shape[0]}, t_lo={t_lo}, "
+                         f"t_hi={t_hi}, inv_step={inv_step}")
+    with nogil:
+        for i in range(n):
+            y = 0.0
+            status[i] = sig_pwl_eval_f(&p, temps[i], &y)
+            out[i] = y if status[i] >= 0 else NAN
+    return out, status

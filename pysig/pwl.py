@@ -1,0 +1,264 @@
+"""Piecewise-linear lookup tables with uniform knots: least-squares fit on
+the hat-function basis (pysig.lsq.fit_linear_model, the one solver) and
+quantisation to the fixed-point form of csrc/sig_pwl.c.
+
+A table with knots k_0 < ... < k_{n-1} (uniform) is f(T) = sum_j v_j h_j(T),
+h_j the hat function that is 1 at k_j and 0 at the neighbouring knots, so
+the knot values v_j are the least-squares coefficients.  Outside
+[k_0, t_hi] the table is flat (the C flags it SIG_WARN_CLAMPED).
+
+The fixed-point form places its knots where the C puts them: the segment
+position is (d * recip) >> shift in Q20.12, d = t - t_lo in the integer
+temperature unit, so knot k is at t_lo + k * 4096 * 2^shift / recip units
+exactly; the fixed-point table is fitted on those knots, then rounded to
+int16 with the largest value_frac (fraction bits) that fits."""
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _pwl
+from .errors import InsufficientDataError, NonFiniteError, RangeError
+from .lsq import fit_linear_model
+from .reference import pwl as ref
+
+FRAC_BITS = ref.FRAC_BITS
+MIN_KNOTS = ref.MIN_KNOTS
+MAX_KNOTS = ref.MAX_KNOTS
+#: bytes of the fixed-point parameters besides the table: t_lo, t_hi,
+#: recip (int16/uint16 each), shift, n_knots, value_frac (uint8 each).
+Q16_HEADER_BYTES = 9
+
+
+@dataclass(frozen=True)
+class PwlFit:
+    """Float table: values at uniform knots knots[0] + k * step, flat outside
+    [knots[0], t_hi]."""
+    knots: np.ndarray
+    values: np.ndarray
+    t_hi: float
+    rms: float                 # in-sample residual RMS of the fit
+
+    @property
+    def n_knots(self):
+        return len(self.knots)
+
+    @property
+    def t_lo(self):
+        return float(self.knots[0])
+
+    @property
+    def inv_step(self):
+        return 1.0 / float(self.knots[1] - self.knots[0])
+
+    def __call__(self, temp):
+        """Evaluate in numpy (the model; the C float form is eval_c)."""
+        t = np.clip(np.asarray(temp, dtype=float), self.t_lo, self.t_hi)
+        return np.interp(t, self.knots, self.values)
+
+    def eval_c(self, temp):
+        """(values, status) from csrc sig_pwl_eval_f."""
+        return _pwl.eval_f(self.values, self.t_lo, self.t_hi, self.inv_step, temp)
+
+    @property
+    def data_bytes(self):
+        """float32 table + t_lo, t_hi, inv_step (float32) + n_knots (uint8)."""
+        return 4 * self.n_knots + 13
+
+
+@dataclass(frozen=True)
+class PwlQ16:
+    """Fixed-point table for sig_pwl_eval_q16 (see sig_pwl.h for the format).
+    `units_per_c` converts °C to the int16 temperature unit: t = round(T * units_per_c)."""
+    table: np.ndarray          # int16, value = entry * 2^-value_frac
+    t_lo: int
+    t_hi: int
+    recip: int
+    shift: int
+    value_frac: int
+    units_per_c: float
+    rms: float                 # in-sample RMS of the fixed-point table on the fitted data
+
+    @property
+    def n_knots(self):
+        return len(self.table)
+
+    @property
+    def data_bytes(self):
+        return 2 * self.n_knots + Q16_HEADER_BYTES
+
+    def knots_c(self):
+        """Exact knot temperatures in °C."""
+        return (self.t_lo + np.asarray(ref.knot_offsets_q16(self.n_knots, self.recip, self.shift))) \
+            / self.units_per_c
+
+    def temp_int(self, temp_c):
+        """°C -> the int16 temperature unit (round half away from zero, saturated)."""
+        return temp_to_int(temp_c, self.units_per_c)
+
+    def eval_c(self, temp_int):
+        """(Q16.16 int32 values, status) from csrc sig_pwl_eval_q16."""
+        return _pwl.eval_q16(self.table, self.t_lo, self.t_hi, self.recip, self.shift,
+                             self.value_frac, temp_int)
+
+    def __call__(self, temp_c):
+        """Value in the data's unit of the C fixed-point evaluation at °C temperatures."""
+        q, _ = self.eval_c(self.temp_int(temp_c))
+        return q / 65536.0
+
+
+def temp_to_int(temp_c, units_per_c):
+    """°C -> int16 temperature units: round half away from zero, saturated."""
+    x = np.asarray(temp_c, dtype=float) * float(units_per_c)
+    if not np.all(np.isfinite(x)):
+        raise NonFiniteError("pwl: non-finite temperature")
+    return np.clip(np.sign(x) * np.floor(np.abs(x) + 0.5), -32768, 32767).astype(np.int16)
+
+
+def _check_data(temp, y, what):
+    temp = np.asarray(temp, dtype=float).ravel()
+    y = np.asarray(y, dtype=float).ravel()
+    if temp.shape != y.shape:
+        raise ValueError(f"{what}: temperature and value differ in length ({temp.size} vs {y.size})")
+    for name, arr in (("temperature", temp), ("value", y)):
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            raise NonFiniteError(f"{what}: non-finite {name} at index {int(bad[0])}")
+    if temp.size == 0:
+        raise InsufficientDataError(f"{what}: no data")
+    return temp, y
+
+
+def _check_n_knots(n_knots, what):
+    if not isinstance(n_knots, (int, np.integer)) or not MIN_KNOTS <= n_knots <= MAX_KNOTS:
+        raise RangeError(f"{what}: a table needs {MIN_KNOTS}..{MAX_KNOTS} knots, got {n_knots!r}")
+
+
+def _check_range(temp, lo, hi, what):
+    tmin, tmax = float(temp.min()), float(temp.max())
+    lo = tmin if lo is None else float(lo)
+    hi = tmax if hi is None else float(hi)
+    if not (np.isfinite(lo) and np.isfinite(hi)):
+        raise NonFiniteError(f"{what}: non-finite table range [{lo}, {hi}]")
+    if lo < tmin or hi > tmax:
+        raise RangeError(f"{what}: knots span [{lo:g}, {hi:g}] °C but the data only covers "
+                         f"[{tmin:g}, {tmax:g}] °C; a knot outside the data has nothing to fit")
+    if not hi > lo:
+        raise RangeError(f"{what}: empty table range [{lo:g}, {hi:g}] °C")
+    return lo, hi
+
+
+def hat_basis(temp, knots):
+    """Design matrix (len(temp) x len(knots)) of the hat functions on uniform
+    knots; temperatures beyond the last knot are flat (weight on it only)."""
+    knots = np.asarray(knots, dtype=float)
+    step = knots[1] - knots[0]
+    pos = np.clip((np.asarray(temp, dtype=float) - knots[0]) / step, 0.0, len(knots) - 1.0)
+    seg = np.minimum(np.floor(pos).astype(int), len(knots) - 2)
+    frac = pos - seg
+    design = np.zeros((pos.size, len(knots)))
+    rows = np.arange(pos.size)
+    design[rows, seg] = 1.0 - frac
+    design[rows, seg + 1] += frac
+    return design
+
+
+def _solve(temp, y, knots, bridge, what):
+    design = hat_basis(temp, knots)
+    support = design.sum(axis=0)
+    empty = np.flatnonzero(support == 0.0)
+    n = len(knots)
+    if empty.size and not bridge:
+        k = int(empty[0])
+        raise InsufficientDataError(
+            f"{what}: knot {k} at {knots[k]:.4g} °C has no data within one knot spacing "
+            f"({knots[1] - knots[0]:.4g} °C); use fewer knots")
+    rows = [design]
+    targets = [y]
+    if empty.size:
+        # Knots in a gap of the data (a held-out block in cross-validation)
+        # are tied to their neighbours by a zero second difference: the table
+        # is linear across the gap and the fitted knots are not disturbed
+        # (each added row has one free unknown of its own).
+        extra = np.zeros((empty.size, n))
+        for r, k in enumerate(empty):
+            c = min(max(int(k), 1), n - 2)
+            extra[r, c - 1:c + 2] = (1.0, -2.0, 1.0)
+        rows.append(extra)
+        targets.append(np.zeros(empty.size))
+    full = np.vstack(rows)
+    if np.linalg.matrix_rank(full) < n:
+        raise InsufficientDataError(
+            f"{what}: {n} knots are not determined by the {np.unique(temp).size} distinct "
+            f"temperatures between them; use fewer knots")
+    values, _ = fit_linear_model(full, np.concatenate(targets), what=what)
+    resid = y - design @ values
+    return values, float(np.sqrt(np.mean(resid ** 2)))
+
+
+def fit_pwl(temp, y, n_knots, lo=None, hi=None, bridge=False, what="pwl fit"):
+    """Least-squares table of `n_knots` uniform knots on [lo, hi] (°C,
+    default: the data's range).  Raises RangeError for fewer than 2 or more
+    than 255 knots or a range outside the data, InsufficientDataError when a
+    knot has no data near it (unless `bridge`, which makes the table linear
+    across data gaps, as cross-validation needs)."""
+    temp, y = _check_data(temp, y, what)
+    _check_n_knots(n_knots, what)
+    lo, hi = _check_range(temp, lo, hi, what)
+    knots = np.linspace(lo, hi, int(n_knots))
+    values, rms = _solve(temp, y, knots, bridge, what)
+    return PwlFit(knots=knots, values=values, t_hi=hi, rms=rms)
+
+
+def plan_q16(t_lo, t_hi, n_knots, what="pwl"):
+    """(recip, shift) for sig_pwl_q16: recip normalised to [2^15, 2^16) for
+    precision, rounded down so the last knot is at or just past t_hi."""
+    span = int(t_hi) - int(t_lo)
+    if not 0 < span <= 65535:
+        raise RangeError(f"{what}: temperature span of {span} units; the table needs 1..65535")
+    num = (int(n_knots) - 1) << FRAC_BITS          # rate = num / span (Q12 position per unit)
+    if num > 65535 * span:
+        raise RangeError(f"{what}: {n_knots} knots over {span} temperature units are closer "
+                         f"than the fixed-point position can resolve; use fewer knots")
+    shift = 0
+    while (num << shift) < 32768 * span and shift < 31:
+        shift += 1
+    recip = (num << shift) // span
+    if not ref.params_valid_q16(int(n_knots), int(t_lo), int(t_hi), recip, shift, 0):
+        raise RangeError(f"{what}: no valid position mapping for {n_knots} knots over {span} units")
+    return recip, shift
+
+
+def quantize_values(values, what="pwl"):
+    """(int16 table, value_frac): the largest value_frac <= 15 whose rounded
+    entries fit int16."""
+    values = np.asarray(values, dtype=float)
+    for vf in range(15, -1, -1):
+        q = np.round(values * (1 << vf))
+        if np.all(np.abs(q) <= 32767):
+            return q.astype(np.int16), vf
+    raise RangeError(f"{what}: table values up to {np.max(np.abs(values)):g} exceed the int16 "
+                     f"table's range (±32767)")
+
+
+def fit_pwl_q16(temp, y, n_knots, units_per_c, lo=None, hi=None, bridge=False, what="pwl fit"):
+    """Fixed-point table for sig_pwl_eval_q16: integer range inside the data
+    (lo rounded up, hi down, in units of 1/units_per_c °C), knots where the C
+    puts them, least squares on those knots, int16 rounding.  The reported
+    rms is that of the C evaluation on the data."""
+    temp, y = _check_data(temp, y, what)
+    _check_n_knots(n_knots, what)
+    lo, hi = _check_range(temp, lo, hi, what)
+    scale = float(units_per_c)
+    t_lo, t_hi = int(np.ceil(lo * scale - 1e-9)), int(np.floor(hi * scale + 1e-9))
+    if not (-32768 <= t_lo < t_hi <= 32767):
+        raise RangeError(f"{what}: range [{lo:g}, {hi:g}] °C is not an int16 span in units of "
+                         f"1/{scale:g} °C")
+    recip, shift = plan_q16(t_lo, t_hi, n_knots, what)
+    knots = (t_lo + np.asarray(ref.knot_offsets_q16(int(n_knots), recip, shift))) / scale
+    values, _ = _solve(temp, y, knots, bridge, what)
+    table, vf = quantize_values(values, what)
+    tab = PwlQ16(table=table, t_lo=t_lo, t_hi=t_hi, recip=recip, shift=shift, value_frac=vf,
+                 units_per_c=scale, rms=0.0)
+    resid = y - tab(temp)
+    return PwlQ16(table=table, t_lo=t_lo, t_hi=t_hi, recip=recip, shift=shift, value_frac=vf,
+                  units_per_c=scale, rms=float(np.sqrt(np.mean(resid ** 2))))
