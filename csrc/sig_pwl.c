@@ -94,7 +94,7 @@ sig_status sig_pwl_init_f(sig_pwl_f *p, const sig_real *table, uint8_t n_knots,
 sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out)
 {
     sig_status st = SIG_OK;
-    sig_real pos, lo;
+    sig_real pos, lo, hi, frac, y;
     int32_t seg;
     if (p == NULL || out == NULL || p->table == NULL) return SIG_ERR_ARG;
     if (!(t < p->t_lo) && !(t >= p->t_lo)) return SIG_ERR_NONFINITE;   /* NaN */
@@ -110,8 +110,15 @@ sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out)
     if (seg >= (int32_t)(p->n_knots - 1u)) {
         *out = p->table[p->n_knots - 1u];
     } else {
+        /* (1-f)*lo + f*hi cannot overflow (hi - lo can); the clamp keeps a
+         * last-bit rounding from stepping outside the two knots. */
         lo = p->table[seg];
-        *out = lo + (pos - (sig_real)seg) * (p->table[seg + 1] - lo);
+        hi = p->table[seg + 1];
+        frac = pos - (sig_real)seg;
+        y = (SIG_REAL(1.0) - frac) * lo + frac * hi;
+        if (y < (lo < hi ? lo : hi)) y = lo < hi ? lo : hi;
+        if (y > (lo < hi ? hi : lo)) y = lo < hi ? hi : lo;
+        *out = y;
     }
     return st;
 }

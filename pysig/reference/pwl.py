@@ -71,5 +71,7 @@ def eval_f(table, t_lo, t_hi, inv_step, t):
     seg = int(pos)
     if seg >= n - 1:
         return table[n - 1], status
-    lo = table[seg]
-    return lo + (pos - seg) * (table[seg + 1] - lo), status
+    lo, hi = table[seg], table[seg + 1]
+    frac = pos - seg
+    y = (1.0 - frac) * lo + frac * hi
+    return min(max(y, min(lo, hi)), max(lo, hi)), status
