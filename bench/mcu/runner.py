@@ -1,0 +1,454 @@
+"""Build C for the MSP430F5510 (clang-14 + ld.lld) or a classic 8051 (sdcc),
+run it in a simulator non-interactively and measure it.
+
+Reusable by every MCU bench (bench/mcu_cost.py, later ones):
+
+    img = build_msp430([csrc/sig_poly.c, ...], harness, defines={"ORDER": 2}, hwmult=True)
+    calls = measure(img, funcs=["sig_tcomp_apply_q"], regions=["bench_start:bench_stop"],
+                    reads={"out": 300})
+    calls["funcs"]["sig_tcomp_apply_q"]   -> {"instructions", "cycles", "stack_bytes", ...}
+    calls["reads"]["out"]                  -> bytes read back after the program ended
+    text_bytes(img, "sig_tcomp_apply_q")   -> bytes of .text of one function
+
+Timing models (see bench/mcu/README.md): MSP430 cycles are mspdebug 0.22
+`sim` MCLK (classic MSP430 table, not CPUX; constant-generator immediates
+over-counted; no flash wait states); the hardware-multiplier build runs its
+helpers on the simulated 16x16 multiplier at 0x0130 (MPY_BASE=0x0130; the
+F5510 has it at 0x04C0, same code and cycles).  8051 clocks are s51 -t C52
+12T oscillator clocks.  Every call is wrapped in `timeout`; results must be
+read back and checked, a wrong build gives plausible cycles.
+
+Tools are found as clang-14/clang, ld.lld-14/ld.lld, llvm-objdump-14/
+llvm-objdump, mspdebug, sdcc, s51.  Standard library only.
+"""
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+import shutil
+import subprocess
+import sys
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+MCU_DIR = Path(__file__).resolve().parent
+ROOT = MCU_DIR.parent.parent
+CSRC = ROOT / "csrc"
+BUILD_DIR = Path(os.environ.get("PYSIG_MCU_BUILD", MCU_DIR / "build"))
+THIRD_PARTY = ROOT / "third_party"
+
+CRT_VERSION = "0.0.post6206"
+CRT_WHEEL = f"pythondata_software_compiler_rt-{CRT_VERSION}-py3-none-any.whl"
+CRT_FLOAT_FILES = ("addsf3", "subsf3", "mulsf3", "divsf3", "comparesf2")
+
+SIM_TIMEOUT = 120          # seconds per simulator run
+STACK_PATTERN = (0xA5, 0x5A)
+
+MSP430_CFLAGS = ["--target=msp430", "-O2", "-ffreestanding", "-nostdlib", "-std=c99",
+                 "-Wall", "-Wextra", "-Wconversion", "-Wdouble-promotion", "-pedantic",
+                 "-Werror", "-ffunction-sections", "-fdata-sections"]
+MSP430_MPY_BASE_SIM = "0x0130"     # mspdebug 0.22's simulated multiplier
+MCS51_CFLAGS = ["-mmcs51", "--model-large", "--std-c99", "--Werror"]
+
+
+class McuError(RuntimeError):
+    """A build or simulator run failed (message carries the command output)."""
+
+
+def tool(*names: str) -> str:
+    for n in names:
+        p = shutil.which(n)
+        if p:
+            return p
+    raise McuError(f"none of {', '.join(names)} is installed (apt: clang-14 lld-14 llvm-14 "
+                   "mspdebug sdcc sdcc-ucsim)")
+
+
+def _run(cmd, timeout=SIM_TIMEOUT, cwd=None, check=True) -> str:
+    cmd = [str(c) for c in cmd]
+    try:
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, cwd=cwd)
+    except subprocess.TimeoutExpired as e:
+        raise McuError(f"timed out after {timeout} s (breakpoint never reached?): "
+                       + " ".join(cmd)) from e
+    out = r.stdout + r.stderr
+    if check and r.returncode != 0:
+        raise McuError(f"failed ({r.returncode}): {' '.join(cmd)}\n{out}")
+    return out
+
+
+# ------------------------------------------------------------ compiler-rt ---
+def compiler_rt_builtins() -> Path:
+    """compiler-rt's generic soft-float C (PyPI pythondata-software-compiler-rt,
+    NCSA/MIT, LICENSE.TXT kept beside it), fetched into third_party/ (git-ignored)."""
+    crt = THIRD_PARTY / "crt" / "pythondata_software_compiler_rt" / "data"
+    builtins = crt / "lib" / "builtins"
+    if all((builtins / f"{f}.c").exists() for f in CRT_FLOAT_FILES):
+        return builtins
+    THIRD_PARTY.mkdir(parents=True, exist_ok=True)
+    wheel = THIRD_PARTY / CRT_WHEEL
+    if not wheel.exists():
+        _run([sys.executable, "-m", "pip", "download", "--no-deps", "-q",
+              f"pythondata-software-compiler-rt=={CRT_VERSION}", "-d", THIRD_PARTY], timeout=300)
+    with zipfile.ZipFile(wheel) as z:
+        z.extractall(THIRD_PARTY / "crt")
+    if not (crt / "LICENSE.TXT").exists() or not builtins.exists():
+        raise McuError(f"{wheel} does not contain lib/builtins and LICENSE.TXT")
+    return builtins
+
+
+# ------------------------------------------------------------------ images ---
+@dataclass
+class Image:
+    target: str                      # "msp430" or "mcs51"
+    path: Path                       # .elf or .ihx
+    hwmult: bool = False             # msp430: built for the hardware multiplier
+    symbols: dict = field(default_factory=dict)   # name -> address (mcs51: (space, addr))
+    sizes: dict = field(default_factory=dict)     # msp430: name -> symbol size
+
+
+def _key(*parts) -> str:
+    h = hashlib.sha1()
+    for p in parts:
+        h.update(str(p).encode())
+        h.update(b"\0")
+    return h.hexdigest()[:12]
+
+
+def _file_key(paths) -> str:
+    return _key(*[Path(p).read_bytes() for p in paths])
+
+
+def _msp430_runtime(hwmult: bool) -> list[Path]:
+    """Start-up + helper objects for one multiplier choice, cached by content."""
+    clang = tool("clang-14", "clang")
+    m = MCU_DIR / "msp430"
+    crt = compiler_rt_builtins()
+    hw = ["-mhwmult=f5series"] if hwmult else []
+    srcs = [m / "crt0.S", m / "rt_builtin.S", m / "rt_int.c", m / "rt_float.c"] + \
+           ([m / "rt_hwmul.c"] if hwmult else [])
+    out = BUILD_DIR / "msp430-rt" / (("hw-" if hwmult else "sw-") + _file_key(srcs))
+    objs = [out / (s.name + ".o") for s in srcs] + [out / f"crt_{f}.o" for f in CRT_FLOAT_FILES]
+    if all(o.exists() for o in objs):
+        return objs
+    out.mkdir(parents=True, exist_ok=True)
+    for s in srcs:
+        if s.suffix == ".S":
+            _run([clang, "--target=msp430", "-c", s, "-o", out / (s.name + ".o")])
+        else:
+            extra = ["-DMPY_BASE=" + MSP430_MPY_BASE_SIM] if s.name == "rt_hwmul.c" else []
+            _run([clang, *MSP430_CFLAGS, *hw, *extra, "-c", s, "-o", out / (s.name + ".o")])
+    for f in CRT_FLOAT_FILES:   # third-party code, unmodified: its warnings are not ours
+        _run([clang, *[x for x in MSP430_CFLAGS if x not in ("-Werror", "-pedantic")], *hw,
+              "-w", "-D__builtin_clz=__builtin_clzl", "-I", crt, "-c", crt / f"{f}.c",
+              "-o", out / f"crt_{f}.o"])
+    return objs
+
+
+def _defs(defines) -> list[str]:
+    items = defines.items() if isinstance(defines, dict) else [(d, None) for d in defines]
+    return [f"-D{k}" if v is None else f"-D{k}={v}" for k, v in items]
+
+
+def build_msp430(sources, harness, defines=(), *, hwmult=True, name=None,
+                 include_dirs=(), outdir=None) -> Image:
+    """Compile `sources` (code under test) and `harness` (main) with clang-14
+    for the MSP430F5510, warnings as errors, and link with the start-up and
+    helpers of bench/mcu/msp430.  hwmult: -mhwmult=f5series and the 16x16
+    multiplier helpers built for the simulator's 0x0130."""
+    clang, lld = tool("clang-14", "clang"), tool("ld.lld-14", "ld.lld")
+    sources = [Path(s).resolve() for s in sources]
+    harness = Path(harness).resolve()
+    dflags = _defs(defines)
+    inc = [f"-I{d}" for d in [CSRC, *include_dirs, harness.parent]]
+    name = name or harness.stem
+    outdir = Path(outdir or BUILD_DIR / "msp430" /
+                  f"{name}-{'hw' if hwmult else 'sw'}-{_key(*dflags, *sources)}")
+    if outdir.exists():
+        shutil.rmtree(outdir)
+    outdir.mkdir(parents=True)
+    hw = ["-mhwmult=f5series"] if hwmult else []
+    objs = []
+    for s in [harness, *sources]:       # harness and code under test: separate units, no LTO
+        o = outdir / (s.stem + ".o")
+        _run([clang, *MSP430_CFLAGS, *hw, *dflags, *inc, "-c", s, "-o", o])
+        objs.append(o)
+    elf = outdir / f"{name}.elf"
+    _run([lld, "-T", MCU_DIR / "msp430" / "msp430f5510.ld", "--gc-sections",
+          "--defsym=__mspabi_addf=__addsf3", "--defsym=__mspabi_subf=__subsf3",
+          "--defsym=__mspabi_mpyf=__mulsf3", "--defsym=__mspabi_divf=__divsf3",
+          "--defsym=__mspabi_cmpf=__lesf2", *_msp430_runtime(hwmult), *objs, "-o", elf])
+    img = Image("msp430", elf, hwmult)
+    _msp430_symbols(img)
+    return img
+
+
+def build_mcs51(sources, harness, defines=(), *, name=None, include_dirs=(),
+                outdir=None, extra_flags=()) -> Image:
+    """Compile with sdcc -mmcs51 --model-large --std-c99 --Werror; the harness
+    module (main) is linked first.  Produces .ihx, .map and one .rst per module."""
+    sdcc = tool("sdcc")
+    sources = [Path(s).resolve() for s in sources]
+    harness = Path(harness).resolve()
+    dflags = _defs(defines)
+    inc = [f"-I{d}" for d in [CSRC, *include_dirs, harness.parent]]
+    name = name or harness.stem
+    outdir = Path(outdir or BUILD_DIR / "mcs51" / f"{name}-{_key(*dflags, *sources)}")
+    if outdir.exists():                 # a failed link leaves a stale .ihx: start clean
+        shutil.rmtree(outdir)
+    outdir.mkdir(parents=True)
+    rels = []
+    for s in [harness, *sources]:
+        out = _run([sdcc, *MCS51_CFLAGS, *extra_flags, *dflags, *inc, "-c", s,
+                    "-o", str(outdir) + "/"], cwd=outdir)
+        if "warning" in out.lower():
+            raise McuError(f"sdcc warning in {s}:\n{out}")
+        rels.append(outdir / (s.stem + ".rel"))
+    ihx = outdir / f"{harness.stem}.ihx"
+    _run([sdcc, *MCS51_CFLAGS, *extra_flags, *rels, "-o", ihx], cwd=outdir)
+    if not ihx.exists():
+        raise McuError(f"sdcc wrote no {ihx}")
+    img = Image("mcs51", ihx)
+    _mcs51_symbols(img)
+    return img
+
+
+# ------------------------------------------------------------- symbols -------
+def _msp430_symbols(img: Image) -> None:
+    out = _run([tool("llvm-objdump-14", "llvm-objdump"), "-t", img.path])
+    for line in out.splitlines():
+        f = line.split()
+        if len(f) >= 5 and re.fullmatch(r"[0-9a-f]{8}", f[0]):
+            img.symbols[f[-1]] = int(f[0], 16)
+            if re.fullmatch(r"[0-9a-f]{8}", f[-2]):
+                img.sizes[f[-1]] = int(f[-2], 16)
+
+
+def _mcs51_symbols(img: Image) -> None:
+    """name -> (space, address) from the .map; space is code, iram or xram.
+    Also records per-area, per-module sizes in img.sizes[(area, module)]."""
+    space = "iram"
+    area = None
+    for line in open(img.path.with_suffix(".map")):
+        m = re.match(r"^([A-Z_0-9]+)\s+([0-9A-F]{8})\s+([0-9A-F]{8}) =.*\((.*)\)", line)
+        if m:
+            area, attrs = m.group(1), m.group(4)
+            space = "code" if "CODE" in attrs else "xram" if "XDATA" in attrs else "iram"
+            continue
+        m = re.match(r"^(?:[A-Z]:)?\s+([0-9A-F]{8})\s+(\S+)(?:\s+(\S+))?\s*$", line)
+        if m:
+            img.symbols[m.group(2)] = (space, int(m.group(1), 16))
+    # module contributions per area, from the .rst-independent "Area ... Size" table
+    text = img.path.with_suffix(".map").read_text()
+    for m in re.finditer(r"^(\S+)\s+([0-9A-F]{8})\s+([0-9A-F]{8}) =\s+(\d+)\. bytes.*$", text, re.M):
+        img.sizes.setdefault(("area", m.group(1)), 0)
+        img.sizes[("area", m.group(1))] += int(m.group(4))
+
+
+def text_bytes(img: Image, func: str) -> int:
+    """Bytes of code of one function.  MSP430: the ELF symbol size.  8051:
+    distance to the next code symbol in the .map (static helpers that sdcc
+    places right after the function are included: state it)."""
+    if img.target == "msp430":
+        if func not in img.sizes:
+            raise McuError(f"{func} not in {img.path}")
+        return img.sizes[func]
+    code = sorted(a for s, a in img.symbols.values() if s == "code")
+    sp, addr = img.symbols["_" + func]
+    nxt = [a for a in code if a > addr]
+    if not nxt:
+        raise McuError(f"no code symbol after _{func}")
+    return nxt[0] - addr
+
+
+# ---------------------------------------------------------------- MSP430 run --
+def _msp430_return_after_call(img: Image, target: int, caller="main") -> int:
+    dis = _run([tool("llvm-objdump-14", "llvm-objdump"), "-d",
+                f"--disassemble-symbols={caller}", img.path])
+    lines = [ln for ln in dis.splitlines() if re.match(r"\s+[0-9a-f]+:", ln)]
+    for i, ln in enumerate(lines):
+        m = re.search(r"\tcall\t#(\d+)\s*$", ln)
+        if m and int(m.group(1)) == target:
+            return int(lines[i + 1].split(":")[0], 16)
+    raise McuError(f"no 'call #{target:#x}' in {caller} of {img.path}")
+
+
+def _mspdebug(img: Image, cmds) -> str:
+    pre = ["prog " + str(img.path)] + (["simio add hwmult mul"] if img.hwmult else []) + \
+          ["simio add tracer tr"]
+    return _run(["timeout", str(SIM_TIMEOUT + 5), tool("mspdebug"), "-q", "sim", *pre, *cmds])
+
+
+def _msp430_counts(out: str):
+    ins = re.findall(r"Instruction count:\s+(\d+)", out)
+    clk = re.findall(r"MCLK:\s+(\d+)", out)
+    if not ins or not clk:
+        raise McuError("no tracer counts in mspdebug output:\n" + out[-2000:])
+    return int(ins[-1]), int(clk[-1])
+
+
+def _hexdump(out: str, addr: int, n: int, line_re: str) -> bytes:
+    mem = {}
+    for m in re.finditer(line_re, out, re.M):
+        for i, h in enumerate(m.group(2).split()):
+            mem[int(m.group(1), 16) + i] = int(h, 16)
+    missing = [addr + i for i in range(n) if addr + i not in mem]
+    if missing:
+        raise McuError(f"memory dump lacks {len(missing)} bytes from {missing[0]:#x}")
+    return bytes(mem[addr + i] for i in range(n))
+
+
+_MSP_MD = r"^\s+([0-9a-f]{4,5}):((?: [0-9a-f]{2})+)"
+
+
+def _msp430_md(out, addr, n):
+    return _hexdump(out, addr, n, _MSP_MD)
+
+
+def _msp430_sp(out: str) -> int:
+    m = re.findall(r"\(\s*SP: ([0-9a-f]{5})\)", out)
+    if not m:
+        raise McuError("no SP in mspdebug regs output:\n" + out[-2000:])
+    return int(m[0], 16)            # registers shown when the first breakpoint hit
+
+
+def _stack_used(dump: bytes, base: int, top: int) -> int:
+    """bytes between `top` and the lowest byte that no longer holds the pattern"""
+    for i, b in enumerate(dump):
+        if b != STACK_PATTERN[(base + i) % 2]:
+            return top - (base + i)
+    return 0
+
+
+def _measure_msp430(img, funcs, regions, reads, stack):
+    s = img.symbols
+    res = {"funcs": {}, "regions": {}, "reads": {}}
+    for fn in funcs:
+        entry = s[fn]
+        ret = _msp430_return_after_call(img, entry)
+        out = _mspdebug(img, [f"setbreak {entry:#x}", "run", "regs", "simio config tr clear",
+                              "delbreak", f"setbreak {ret:#x}", "run", "simio info tr"])
+        ins, clk = _msp430_counts(out)
+        row = {"instructions": ins, "cycles": clk}
+        if stack:
+            sp = _msp430_sp(out)            # at entry: SP points at the return address
+            lo = s["__bss_end"]
+            n = sp - lo
+            out = _mspdebug(img, [f"setbreak {entry:#x}", "run",
+                                  f"fill {lo:#x} {n} {STACK_PATTERN[0]:#x} {STACK_PATTERN[1]:#x}",
+                                  "delbreak", f"setbreak {ret:#x}", "run", f"md {lo:#x} {n}"])
+            row["stack_bytes"] = _stack_used(_msp430_md(out, lo, n), lo, sp + 2)
+        res["funcs"][fn] = row
+    for reg in regions:
+        a, b = reg.split(":")
+        out = _mspdebug(img, [f"setbreak {s[a]:#x}", "run", "simio config tr clear", "delbreak",
+                              f"setbreak {s[b]:#x}", "run", "simio info tr"])
+        ins, clk = _msp430_counts(out)
+        res["regions"][reg] = {"instructions": ins, "cycles": clk}
+    cmds = [f"setbreak {s['_exit']:#x}", "run", "simio info tr"]
+    for name, n in reads.items():
+        cmds.append(f"md {s[name]:#x} {n}")
+    out = _mspdebug(img, cmds)
+    res["total"] = dict(zip(("instructions", "cycles"), _msp430_counts(out)))
+    for name, n in reads.items():
+        res["reads"][name] = _msp430_md(out, s[name], n)
+    return res
+
+
+# ------------------------------------------------------------------ 8051 run --
+_STATE = re.compile(r"Inst= (\d+) Fetch= (\d+) Read= (\d+) Write= (\d+).*?\((\d+) clks\)", re.S)
+_S51_DUMP = r"^0x([0-9a-f]{2,})((?: [0-9a-f]{2}(?= |$))+)"
+
+
+def _s51(img: Image, script, cpu="C52") -> str:
+    return _run(["timeout", str(SIM_TIMEOUT + 5), tool("s51"), "-b", "-t", cpu, "-X", "12M",
+                 "-e", "\n".join(list(script) + ["quit"]), img.path])
+
+
+def _mcs51_return_after_call(img: Image, fn: str) -> int:
+    pat = re.compile(r"^\s+([0-9A-F]{6}) 12 [0-9A-F]{2} [0-9A-F]{2}\s.*\blcall\s+_%s\s*$" % fn)
+    for rst in sorted(img.path.parent.glob("*.rst")):
+        for line in open(rst):
+            m = pat.match(line)
+            if m:
+                return int(m.group(1), 16) + 3
+    raise McuError(f"no 'lcall _{fn}' in the .rst listings of {img.path}")
+
+
+def _state_delta(out: str):
+    st = [tuple(map(int, m)) for m in _STATE.findall(out)]
+    if len(st) < 2:
+        raise McuError("s51 did not reach both breakpoints:\n" + out[-2000:])
+    d = [y - x for x, y in zip(st[-2], st[-1])]
+    d[0] -= 1             # ucsim's Inst= reads one high across a resumed breakpoint
+    return {"instructions": d[0], "cycles": d[4], "machine_cycles": d[4] // 12,
+            "code_bytes_fetched": d[1], "data_reads": d[2], "data_writes": d[3]}
+
+
+def _mcs51_sp(out: str) -> int:
+    m = re.findall(r"^0x81 ([0-9a-f]{2})", out, re.M)
+    if not m:
+        raise McuError("no SP dump in s51 output:\n" + out[-2000:])
+    return int(m[-1], 16)
+
+
+def _measure_mcs51(img, funcs, regions, reads, stack, history=False, cpu="C52"):
+    s = img.symbols
+    res = {"funcs": {}, "regions": {}, "reads": {}}
+    for fn in funcs:
+        entry = s["_" + fn][1]
+        ret = _mcs51_return_after_call(img, fn)
+        script = [f"break {entry:#x}", "run", "state"]
+        sp = None
+        if stack:   # internal RAM above SP is free: paint it, find the highest byte touched
+            sp = _mcs51_sp(_s51(img, [f"break {entry:#x}", "run", "dump /h sfr 0x81 0x81"], cpu))
+            script += [f"fill iram {sp + 1:#x} 0xff {STACK_PATTERN[0]:#x}"]
+        if history:
+            script += ["history clear"]
+        script += [f"break {ret:#x}", "run", "state"]
+        if stack:
+            script += [f"dump /h iram {sp + 1:#x} 0xff"]
+        if history:
+            script += ["history list 10000"]
+        out = _s51(img, script, cpu)
+        row = _state_delta(out)
+        if stack:
+            dump = _hexdump(out, sp + 1, 0xff - sp, _S51_DUMP)
+            hi = max([i for i, b in enumerate(dump) if b != STACK_PATTERN[0]], default=-1)
+            row["stack_bytes"] = hi + 1 + 2      # + the 2-byte return address below SP+1
+        if history:
+            row["history"] = out
+        res["funcs"][fn] = row
+    for reg in regions:
+        a, b = reg.split(":")
+        out = _s51(img, [f"break {s['_' + a][1]:#x}", "run", "state",
+                         f"break {s['_' + b][1]:#x}", "run", "state"], cpu)
+        res["regions"][reg] = _state_delta(out)
+    script = [f"break {s['_bench_done'][1]:#x}", "run", "state"]
+    for name, n in reads.items():
+        space, addr = s["_" + name]
+        script.append(f"dump /h {space} {addr:#x} {addr + n - 1:#x}")
+    out = _s51(img, script, cpu)
+    st = [tuple(map(int, m)) for m in _STATE.findall(out)]
+    if not st:
+        raise McuError("s51 never reached _bench_done:\n" + out[-2000:])
+    res["total"] = {"instructions": st[-1][0], "cycles": st[-1][4]}
+    for name, n in reads.items():
+        res["reads"][name] = _hexdump(out, s["_" + name][1], n, _S51_DUMP)
+    return res
+
+
+def measure(img: Image, funcs=(), regions=(), reads=None, stack=True, **kw) -> dict:
+    """Run `img` in its simulator.
+    funcs:   functions called directly from main(); per function: instructions
+             and cycles from its first instruction through its return (MSP430:
+             MCLK; 8051: 12T clocks), stack_bytes (return address included).
+    regions: "start:stop" marker functions; counts from entry to entry.
+    reads:   {symbol: nbytes} read back after the program ends (MSP430: at
+             _exit; 8051: at bench_done()).  Little-endian raw bytes."""
+    reads = dict(reads or {})
+    if img.target == "msp430":
+        return _measure_msp430(img, funcs, regions, reads, stack)
+    return _measure_mcs51(img, funcs, regions, reads, stack, **kw)
