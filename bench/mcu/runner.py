@@ -394,7 +394,22 @@ def _mcs51_sp(out: str) -> int:
     return int(m[-1], 16)
 
 
-def _measure_mcs51(img, funcs, regions, reads, stack, history=False, cpu="C52"):
+def _mcs51_1t(img, entry, n_instructions, cpu, chunk=9000):
+    """Opcode histogram of one call (s51 execution history, stepped in chunks
+    that fit its 10000-entry ring) weighed with the per-opcode tables of
+    mcs51/timing.py."""
+    sys.path.insert(0, str(MCU_DIR / "mcs51"))
+    import timing          # noqa: E402  (bench/mcu/mcs51/timing.py)
+    script = [f"break {entry:#x}", "run"]
+    left = n_instructions
+    while left > 0:
+        k = min(chunk, left)
+        script += ["history clear", f"step {k}", f"history list {k}"]
+        left -= k
+    return timing.weigh(timing.histogram(_s51(img, script, cpu)))
+
+
+def _measure_mcs51(img, funcs, regions, reads, stack, one_t=True, cpu="C52"):
     s = img.symbols
     res = {"funcs": {}, "regions": {}, "reads": {}}
     for fn in funcs:
@@ -405,21 +420,20 @@ def _measure_mcs51(img, funcs, regions, reads, stack, history=False, cpu="C52"):
         if stack:   # internal RAM above SP is free: paint it, find the highest byte touched
             sp = _mcs51_sp(_s51(img, [f"break {entry:#x}", "run", "dump /h sfr 0x81 0x81"], cpu))
             script += [f"fill iram {sp + 1:#x} 0xff {STACK_PATTERN[0]:#x}"]
-        if history:
-            script += ["history clear"]
         script += [f"break {ret:#x}", "run", "state"]
         if stack:
             script += [f"dump /h iram {sp + 1:#x} 0xff"]
-        if history:
-            script += ["history list 10000"]
         out = _s51(img, script, cpu)
         row = _state_delta(out)
         if stack:
             dump = _hexdump(out, sp + 1, 0xff - sp, _S51_DUMP)
             hi = max([i for i, b in enumerate(dump) if b != STACK_PATTERN[0]], default=-1)
-            row["stack_bytes"] = hi + 1 + 2      # + the 2-byte return address below SP+1
-        if history:
-            row["history"] = out
+            row["stack_bytes"] = hi + 1 + 2      # + the 2-byte return address at SP-1..SP
+        if one_t:
+            w = _mcs51_1t(img, entry, row["instructions"], cpu)
+            if w["instructions"] != row["instructions"] or w["clocks_12T"] != row["cycles"]:
+                raise McuError(f"{fn}: opcode histogram x 8051 table = {w}, s51 counted {row}")
+            row["clocks_1t_stc_y5"] = w["clocks_stc_y5"]
         res["funcs"][fn] = row
     for reg in regions:
         a, b = reg.split(":")
