@@ -1,0 +1,189 @@
+/* sig_tcomp.c - temperature compensation by a polynomial offset model, fixed
+ * point and float (sig_tcomp.h), and its coefficient-image section. */
+#include "sig_tcomp.h"
+#include "sig_image.h"
+
+/* u for a temperature already inside the range (|t - t_center| <= 32767). */
+static int16_t scale_in_range(const sig_tcomp_q *m, int16_t t)
+{
+    int16_t d = (int16_t)((int32_t)t - (int32_t)m->t_center);
+    int32_t prod = (int32_t)d * (int32_t)m->u_mul;          /* 16x16 -> 32 */
+    if (m->u_shift > 0u) prod += (int32_t)1 << (m->u_shift - 1u);
+    return (int16_t)sig_asr32(prod, m->u_shift);
+}
+
+static int32_t scale_wide(int32_t d, int16_t u_mul, uint8_t u_shift)
+{
+    int32_t prod = d * (int32_t)u_mul;
+    if (u_shift > 0u) prod += (int32_t)1 << (u_shift - 1u);
+    return sig_asr32(prod, u_shift);
+}
+
+sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
+                            const int32_t *coef, const uint8_t *q,
+                            int16_t t_lo, int16_t t_hi, int16_t t_center, int16_t t0,
+                            int16_t u_mul, uint8_t u_shift)
+{
+    uint8_t a, k;
+    int32_t d_hi, d_lo;
+    if (m == NULL || coef == NULL || q == NULL) return SIG_ERR_ARG;
+    if (n_axes < 1u || n_axes > SIG_TCOMP_MAX_AXES) return SIG_ERR_ARG;
+    if (order < SIG_TCOMP_MIN_ORDER || order > SIG_TCOMP_MAX_ORDER) return SIG_ERR_ARG;
+    if (t_lo >= t_hi || t_center < t_lo || t_center > t_hi) return SIG_ERR_ARG;
+    if (u_mul <= 0 || u_shift > 30u) return SIG_ERR_ARG;
+    d_hi = (int32_t)t_hi - (int32_t)t_center;
+    d_lo = (int32_t)t_lo - (int32_t)t_center;
+    if (d_hi > INT16_MAX || d_lo < -(int32_t)INT16_MAX) return SIG_ERR_ARG;
+    if (scale_wide(d_hi, u_mul, u_shift) > INT16_MAX ||
+        scale_wide(d_lo, u_mul, u_shift) < -(int32_t)INT16_MAX)
+        return SIG_ERR_ARG;
+    for (a = 0; a < n_axes; a++)
+        if (q[a] > SIG_TCOMP_MAX_Q) return SIG_ERR_ARG;
+    for (a = 0; a < SIG_TCOMP_MAX_AXES; a++) {
+        m->q[a] = a < n_axes ? q[a] : 0u;
+        for (k = 0; k <= SIG_TCOMP_MAX_ORDER; k++)
+            m->coef[a][k] = (a < n_axes && k <= order) ? coef[(uint16_t)a * (uint16_t)(order + 1u) + k] : 0;
+    }
+    m->t_lo = t_lo;
+    m->t_hi = t_hi;
+    m->t_center = t_center;
+    m->t0 = t0;
+    m->u_mul = u_mul;
+    m->u_shift = u_shift;
+    m->order = order;
+    m->n_axes = n_axes;
+    return SIG_OK;
+}
+
+sig_status sig_tcomp_scale_q(const sig_tcomp_q *m, int16_t t, int16_t *u_q15)
+{
+    sig_status st = SIG_OK;
+    if (m == NULL || u_q15 == NULL) return SIG_ERR_ARG;
+    if (t < m->t_lo) { t = m->t_lo; st = SIG_WARN_CLAMPED; }
+    else if (t > m->t_hi) { t = m->t_hi; st = SIG_WARN_CLAMPED; }
+    *u_q15 = scale_in_range(m, t);
+    return st;
+}
+
+sig_status sig_tcomp_delta_q(const sig_tcomp_q *m, uint8_t axis, int16_t t, int32_t *delta)
+{
+    sig_status st, st_poly;
+    int16_t u;
+    int32_t value;
+    if (m == NULL || delta == NULL || axis >= m->n_axes) return SIG_ERR_ARG;
+    st = sig_tcomp_scale_q(m, t, &u);
+    st_poly = sig_poly_horner_q15(m->coef[axis], m->order, u, &value);
+    if (st_poly < 0) return st_poly;
+    *delta = value;
+    return (sig_status)(st | st_poly);
+}
+
+sig_status sig_tcomp_apply_q(const sig_tcomp_q *m, int16_t t, const int16_t *in, int16_t *out)
+{
+    sig_status st, st_poly;
+    int16_t u;
+    int32_t delta, corrected;
+    uint8_t a, q;
+    if (m == NULL || in == NULL || out == NULL) return SIG_ERR_ARG;
+    st = sig_tcomp_scale_q(m, t, &u);
+    for (a = 0; a < m->n_axes; a++) {
+        st_poly = sig_poly_horner_q15(m->coef[a], m->order, u, &delta);
+        if (st_poly < 0) return st_poly;    /* unreachable after init: order checked */
+        st = (sig_status)(st | st_poly);
+        q = m->q[a];
+        if (q > 0u) delta = sig_asr32(sig_sat_add32(delta, (int32_t)1 << (q - 1u)), q);
+        corrected = sig_sat_sub32((int32_t)in[a], delta);
+        if (corrected > INT16_MAX || corrected < INT16_MIN) st = (sig_status)(st | SIG_WARN_SATURATED);
+        out[a] = sig_sat16(corrected);
+    }
+    return st;
+}
+
+static bool finite_real(sig_real x)
+{
+    sig_real d = x - x;          /* 0 for finite x, NaN for inf and NaN */
+    return d == SIG_REAL(0.0);
+}
+
+sig_status sig_tcomp_init_f(sig_tcomp_f *m, uint8_t n_axes, uint8_t order, const sig_real *coef,
+                            sig_real t_lo, sig_real t_hi, sig_real center, sig_real inv_scale)
+{
+    uint8_t a, k;
+    uint16_t n;
+    if (m == NULL || coef == NULL) return SIG_ERR_ARG;
+    if (n_axes < 1u || n_axes > SIG_TCOMP_MAX_AXES) return SIG_ERR_ARG;
+    if (order < SIG_TCOMP_MIN_ORDER || order > SIG_TCOMP_MAX_ORDER) return SIG_ERR_ARG;
+    if (!finite_real(t_lo) || !finite_real(t_hi) || !finite_real(center) || !finite_real(inv_scale))
+        return SIG_ERR_NONFINITE;
+    if (!(t_lo < t_hi) || center < t_lo || center > t_hi || !(inv_scale > SIG_REAL(0.0)))
+        return SIG_ERR_ARG;
+    n = (uint16_t)((uint16_t)n_axes * (uint16_t)(order + 1u));
+    for (k = 0; k < n; k++)
+        if (!finite_real(coef[k])) return SIG_ERR_NONFINITE;
+    for (a = 0; a < SIG_TCOMP_MAX_AXES; a++)
+        for (k = 0; k <= SIG_TCOMP_MAX_ORDER; k++)
+            m->coef[a][k] = (a < n_axes && k <= order)
+                ? coef[(uint16_t)a * (uint16_t)(order + 1u) + k] : SIG_REAL(0.0);
+    m->t_lo = t_lo;
+    m->t_hi = t_hi;
+    m->center = center;
+    m->inv_scale = inv_scale;
+    m->order = order;
+    m->n_axes = n_axes;
+    return SIG_OK;
+}
+
+sig_status sig_tcomp_apply_f(const sig_tcomp_f *m, sig_real t, const sig_real *in, sig_real *out)
+{
+    sig_status st = SIG_OK, st_poly;
+    sig_real u, delta[SIG_TCOMP_MAX_AXES];
+    uint8_t a;
+    if (m == NULL || in == NULL || out == NULL) return SIG_ERR_ARG;
+    if (!(t < m->t_lo) && !(t >= m->t_lo)) return SIG_ERR_NONFINITE;   /* NaN; +-inf clamps */
+    for (a = 0; a < m->n_axes; a++)
+        if (!finite_real(in[a])) return SIG_ERR_NONFINITE;
+    if (t < m->t_lo) { t = m->t_lo; st = SIG_WARN_CLAMPED; }
+    else if (t > m->t_hi) { t = m->t_hi; st = SIG_WARN_CLAMPED; }
+    u = (t - m->center) * m->inv_scale;
+    for (a = 0; a < m->n_axes; a++) {
+        st_poly = sig_poly_horner_f(m->coef[a], m->order, u, &delta[a]);
+        if (st_poly < 0) return st_poly;
+    }
+    for (a = 0; a < m->n_axes; a++) out[a] = in[a] - delta[a];
+    return st;
+}
+
+sig_status sig_tcomp_load_image(sig_tcomp_q *m, const uint8_t *image, size_t len)
+{
+    const uint8_t *p;
+    uint16_t plen, pos;
+    uint8_t n_axes, order, a, k;
+    int32_t coef[SIG_TCOMP_MAX_AXES * (SIG_TCOMP_MAX_ORDER + 1u)];
+    uint8_t q[SIG_TCOMP_MAX_AXES];
+    sig_status st;
+    if (m == NULL) return SIG_ERR_ARG;
+    st = sig_image_find_section(image, len, SIG_SECTION_OFFSET_POLY, &p, &plen);
+    if (st != SIG_OK) return st;
+    if (plen < SIG_OFFSET_POLY_FIXED_LEN) return SIG_ERR_FORMAT;
+    n_axes = p[0];
+    order = p[1];
+    if (n_axes < 1u || n_axes > SIG_TCOMP_MAX_AXES || order < SIG_TCOMP_MIN_ORDER ||
+        order > SIG_TCOMP_MAX_ORDER || p[3] != 0u)
+        return SIG_ERR_FORMAT;
+    if (plen != (uint16_t)(SIG_OFFSET_POLY_FIXED_LEN +
+                           (uint16_t)n_axes * (uint16_t)(1u + 4u * (uint16_t)(order + 1u))))
+        return SIG_ERR_FORMAT;
+    pos = SIG_OFFSET_POLY_FIXED_LEN;
+    for (a = 0; a < n_axes; a++) {
+        q[a] = p[pos++];
+        for (k = 0; k <= order; k++) {
+            coef[(uint16_t)a * (uint16_t)(order + 1u) + k] = sig_image_get_i32(p + pos);
+            pos = (uint16_t)(pos + 4u);
+        }
+    }
+    st = sig_tcomp_init_q(m, n_axes, order, coef, q,
+                          sig_image_get_i16(p + 4), sig_image_get_i16(p + 6),
+                          sig_image_get_i16(p + 8), sig_image_get_i16(p + 10),
+                          sig_image_get_i16(p + 12), p[2]);
+    return st == SIG_ERR_ARG ? SIG_ERR_FORMAT : st;
+}
