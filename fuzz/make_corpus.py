@@ -40,7 +40,26 @@ def seeds_types():
     write("types", "seed-rails", bytes(range(8)) * 3)
 
 
+def seeds_pwl():
+    import struct as s
+    # q16: mode 0, n, shift, vf, derive=1, t_lo, t_hi, recip, table, temperatures
+    for k, (n, shift, vf, lo, hi) in enumerate([(2, 0, 8, 0, 1000), (5, 4, 0, -2000, 2000),
+                                                (255, 31, 15, -32768, 32767), (17, 10, 4, 100, 101)]):
+        tab = [(-1) ** i * (i * 977 % 32768) for i in range(n)]
+        data = bytes([0, n, shift, vf, 1]) + s.pack("<hhH", lo, hi, 1) + s.pack(f"<{n}h", *tab)
+        data += s.pack("<4h", lo - 1 if lo > -32768 else lo, hi, (lo + hi) // 2, 0)
+        write("pwl", f"seed-q16-{k}", data)
+    # float: mode 1, n, derive=1, t_lo, t_hi, inv_step (derived), table, temperatures
+    for k, (n, lo, hi) in enumerate([(2, -40.0, 85.0), (9, 6.7, 41.1), (255, -1e30, 1e30)]):
+        tab = [float(i) * 0.5 - 3 for i in range(n)]
+        data = bytes([1, n, 1]) + f32(lo, hi, 0.0) + f32(*tab) + f32(*F_SPECIAL)
+        write("pwl", f"seed-f-{k}", data)
+    write("pwl", "regress-f-table-diff-overflow", bytes([1, 3, 1]) + f32(0.0, 2.0, 0.0)
+          + f32(-3.4028235e38, 3.4028235e38, 0.0) + f32(0.5, 1.5))
+
+
 if __name__ == "__main__":
     seeds_types()
+    seeds_pwl()
     for d in sorted(CORPUS.iterdir()):
         print(f"{d.name}: {len(list(d.iterdir()))} seeds")

@@ -16,7 +16,7 @@ static long check_run, check_failed;
     fprintf(stderr, "%s:%d: %s == %lld, want %s == %lld\n", __FILE__, __LINE__, \
             #got, g_, #want, w_); } } while (0)
 
-static int check_report(const char *name)
+static inline int check_report(const char *name)
 {
     printf("%s: %ld checks, %ld failed\n", name, check_run, check_failed);
     return check_failed ? 1 : 0;
@@ -24,7 +24,7 @@ static int check_report(const char *name)
 
 /* Deterministic pseudo-random 32-bit values (xorshift32) for sweeps. */
 static unsigned long check_rng_state = 2463534242UL;
-static unsigned long check_rand32(void)
+static inline unsigned long check_rand32(void)
 {
     unsigned long x = check_rng_state & 0xFFFFFFFFUL;
     x ^= (x << 13) & 0xFFFFFFFFUL;
