@@ -1,0 +1,267 @@
+/* sig_chain.c - the weighing chain, float and fixed; see sig_chain.h. */
+#include "sig_chain.h"
+
+static bool is_finite(sig_real x)
+{
+    return x - x == SIG_REAL(0.0);
+}
+
+static bool nonneg_finite(sig_real x)
+{
+    return is_finite(x) && x >= SIG_REAL(0.0);
+}
+
+sig_status sig_chain_params_paper_f(sig_chain_params_f *p)
+{
+    if (!p) return SIG_ERR_ARG;
+    p->a0 = SIG_REAL(2.0);
+    p->window = SIG_ANTIPULSE_DEFAULT;
+    p->q = SIG_REAL(1e-7);
+    p->r = SIG_REAL(0.05);
+    p->p0 = SIG_REAL(10.0);
+    p->x0 = SIG_REAL(1.0);
+    p->seed_first = false;
+    p->stable_step = SIG_REAL(0.01);
+    p->stable_count = 1u;
+    p->lockout_n = 0u;
+    p->motion_band = SIG_REAL(0.0);
+    p->motion_count = 1u;
+    p->zero_band = SIG_REAL(0.0);
+    p->zero_rate = SIG_REAL(0.0);
+    return SIG_OK;
+}
+
+static bool params_ok_f(const sig_chain_params_f *p)
+{
+    return is_finite(p->a0) && p->a0 > SIG_REAL(0.0)
+        && p->window >= 3u && p->window <= SIG_ANTIPULSE_MAX
+        && nonneg_finite(p->q) && is_finite(p->r) && p->r > SIG_REAL(0.0)
+        && nonneg_finite(p->p0) && is_finite(p->x0)
+        && nonneg_finite(p->stable_step) && p->stable_count >= 1u
+        && nonneg_finite(p->motion_band) && p->motion_count >= 1u
+        && nonneg_finite(p->zero_band) && nonneg_finite(p->zero_rate);
+}
+
+sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p)
+{
+    if (!c || !p || !params_ok_f(p)) return SIG_ERR_ARG;
+    (void)sig_limit_init_f(&c->limit, p->a0, p->lockout_n);
+    (void)sig_antipulse_init_f(&c->ap, p->window);
+    (void)sig_kalman1_init_f(&c->kf, p->q, p->r, p->p0, p->x0, p->seed_first);
+    (void)sig_stable_init_f(&c->st, p->stable_step, p->stable_count);
+    c->motion_band = p->motion_band;
+    c->motion_count = p->motion_count;
+    c->zero_band = p->zero_band;
+    c->zero_rate = p->zero_rate;
+    return sig_chain_reset_f(c);
+}
+
+sig_status sig_chain_reset_f(sig_chain_f *c)
+{
+    if (!c) return SIG_ERR_ARG;
+    (void)sig_limit_reset_f(&c->limit);
+    (void)sig_antipulse_reset_f(&c->ap);
+    (void)sig_kalman1_reset_f(&c->kf);
+    (void)sig_stable_reset_f(&c->st);
+    c->offset = SIG_REAL(0.0);
+    c->out = SIG_REAL(0.0);
+    c->motion_run = 0u;
+    c->tare_pending = false;
+    c->stable = false;
+    c->has_out = false;
+    return SIG_OK;
+}
+
+sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *stable)
+{
+    sig_status st, ret;
+    sig_real y, m, xk, e, dz;
+    bool stab;
+    if (!c || !out || !stable) return SIG_ERR_ARG;
+    st = sig_limit_step_f(&c->limit, x, &y);
+    if (st < 0) return st;                      /* non-finite and nothing seeded yet */
+    ret = st;
+    if ((st & SIG_LIMIT_RESEEDED) != 0) {
+        (void)sig_antipulse_reset_f(&c->ap);
+        if (c->motion_band > SIG_REAL(0.0)) (void)sig_kalman1_restart_f(&c->kf);
+        c->motion_run = 0u;
+    }
+    (void)sig_antipulse_step_f(&c->ap, y, &m);
+    if (c->motion_band > SIG_REAL(0.0) && c->kf.seeded) {
+        e = m - c->kf.x;
+        if (e > c->motion_band || -e > c->motion_band) {
+            if (c->motion_run < 255u) c->motion_run++;
+        } else {
+            c->motion_run = 0u;
+        }
+        if (c->motion_run >= c->motion_count) {
+            (void)sig_antipulse_reset_f(&c->ap);
+            (void)sig_antipulse_step_f(&c->ap, y, &m);
+            (void)sig_kalman1_restart_f(&c->kf);
+            c->motion_run = 0u;
+            ret = (sig_status)(ret | SIG_CHAIN_MOTION);
+        }
+    }
+    (void)sig_limit_set_ref_f(&c->limit, m);
+    (void)sig_kalman1_step_f(&c->kf, m, &xk);
+    (void)sig_stable_step_f(&c->st, xk, &stab);
+    if (stab) {
+        if (c->tare_pending) {
+            c->offset = xk;
+            c->tare_pending = false;
+            ret = (sig_status)(ret | SIG_CHAIN_TARED);
+        } else if (c->zero_band > SIG_REAL(0.0)) {
+            dz = xk - c->offset;
+            if (dz <= c->zero_band && -dz <= c->zero_band) {
+                if (dz > c->zero_rate) dz = c->zero_rate;
+                if (dz < -c->zero_rate) dz = -c->zero_rate;
+                c->offset += dz;
+            }
+        }
+    }
+    c->out = xk - c->offset;
+    c->stable = stab;
+    c->has_out = true;
+    *out = c->out;
+    *stable = stab;
+    return ret;
+}
+
+sig_status sig_chain_tare_f(sig_chain_f *c)
+{
+    if (!c) return SIG_ERR_ARG;
+    if (c->has_out && c->stable) {
+        c->offset = c->kf.x;
+        c->out = SIG_REAL(0.0);
+        c->tare_pending = false;
+        return SIG_CHAIN_TARED;
+    }
+    c->tare_pending = true;
+    return SIG_OK;
+}
+
+sig_status sig_chain_set_offset_f(sig_chain_f *c, sig_real offset)
+{
+    if (!c || !is_finite(offset)) return SIG_ERR_ARG;
+    c->offset = offset;
+    c->tare_pending = false;
+    return SIG_OK;
+}
+
+/* ---- fixed point ---------------------------------------------------------- */
+
+static bool params_ok_q(const sig_chain_params_q *p)
+{
+    return p->a0 > 0 && p->window >= 3u && p->window <= SIG_ANTIPULSE_MAX
+        && p->q_q30 <= SIG_KALMAN1_Q_MAX && p->p0_q16 <= SIG_KALMAN1_P0_MAX
+        && p->stable_step_q7 >= 0 && p->stable_count >= 1u
+        && p->motion_band_q7 >= 0 && p->motion_count >= 1u
+        && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0;
+}
+
+sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p)
+{
+    if (!c || !p || !params_ok_q(p)) return SIG_ERR_ARG;
+    (void)sig_limit_init_q(&c->limit, p->a0, p->lockout_n);
+    (void)sig_antipulse_init_q(&c->ap, p->window);
+    (void)sig_kalman1_init_q(&c->kf, p->q_q30, p->p0_q16, p->x0_q7, p->seed_first);
+    (void)sig_stable_init_q(&c->st, p->stable_step_q7, p->stable_count);
+    c->motion_band = p->motion_band_q7;
+    c->motion_count = p->motion_count;
+    c->zero_band = p->zero_band_q7;
+    c->zero_rate = p->zero_rate_q7;
+    return sig_chain_reset_q(c);
+}
+
+sig_status sig_chain_reset_q(sig_chain_q *c)
+{
+    if (!c) return SIG_ERR_ARG;
+    (void)sig_limit_reset_q(&c->limit);
+    (void)sig_antipulse_reset_q(&c->ap);
+    (void)sig_kalman1_reset_q(&c->kf);
+    (void)sig_stable_reset_q(&c->st);
+    c->offset = 0;
+    c->out = 0;
+    c->motion_run = 0u;
+    c->tare_pending = false;
+    c->stable = false;
+    c->has_out = false;
+    return SIG_OK;
+}
+
+sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *stable)
+{
+    sig_status ret = SIG_OK;
+    int32_t y, m, m7, xk, dz;
+    bool stab;
+    if (!c || !out_q7 || !stable) return SIG_ERR_ARG;
+    if (x > SIG_CODE_MAX) { x = SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
+    else if (x < -SIG_CODE_MAX) { x = -SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
+    ret = (sig_status)(ret | sig_limit_step_q(&c->limit, x, &y));
+    if ((ret & SIG_LIMIT_RESEEDED) != 0) {
+        (void)sig_antipulse_reset_q(&c->ap);
+        if (c->motion_band > 0) (void)sig_kalman1_restart_q(&c->kf);
+        c->motion_run = 0u;
+    }
+    (void)sig_antipulse_step_q(&c->ap, y, &m);
+    m7 = m * INT32_C(128);                       /* |m| <= 2^24 - 1: fits */
+    if (c->motion_band > 0 && c->kf.seeded) {
+        if (sig_abs32_sat(sig_sat_sub32(m7, c->kf.x)) > c->motion_band) {
+            if (c->motion_run < 255u) c->motion_run++;
+        } else {
+            c->motion_run = 0u;
+        }
+        if (c->motion_run >= c->motion_count) {
+            (void)sig_antipulse_reset_q(&c->ap);
+            (void)sig_antipulse_step_q(&c->ap, y, &m);
+            m7 = m * INT32_C(128);
+            (void)sig_kalman1_restart_q(&c->kf);
+            c->motion_run = 0u;
+            ret = (sig_status)(ret | SIG_CHAIN_MOTION);
+        }
+    }
+    (void)sig_limit_set_ref_q(&c->limit, m);
+    (void)sig_kalman1_step_q(&c->kf, m7, &xk);
+    (void)sig_stable_step_q(&c->st, xk, &stab);
+    if (stab) {
+        if (c->tare_pending) {
+            c->offset = xk;
+            c->tare_pending = false;
+            ret = (sig_status)(ret | SIG_CHAIN_TARED);
+        } else if (c->zero_band > 0) {
+            dz = sig_sat_sub32(xk, c->offset);
+            if (sig_abs32_sat(dz) <= c->zero_band) {
+                if (dz > c->zero_rate) dz = c->zero_rate;
+                if (dz < -c->zero_rate) dz = -c->zero_rate;
+                c->offset = sig_sat_add32(c->offset, dz);
+            }
+        }
+    }
+    c->out = sig_sat_sub32(xk, c->offset);
+    c->stable = stab;
+    c->has_out = true;
+    *out_q7 = c->out;
+    *stable = stab;
+    return ret;
+}
+
+sig_status sig_chain_tare_q(sig_chain_q *c)
+{
+    if (!c) return SIG_ERR_ARG;
+    if (c->has_out && c->stable) {
+        c->offset = c->kf.x;
+        c->out = 0;
+        c->tare_pending = false;
+        return SIG_CHAIN_TARED;
+    }
+    c->tare_pending = true;
+    return SIG_OK;
+}
+
+sig_status sig_chain_set_offset_q(sig_chain_q *c, int32_t offset_q7)
+{
+    if (!c) return SIG_ERR_ARG;
+    c->offset = offset_q7;
+    c->tare_pending = false;
+    return SIG_OK;
+}

@@ -1,0 +1,115 @@
+/* sig_chain.h - the weighing chain: limit -> anti-pulse -> Kalman -> stability,
+ * wired as in the paper, plus three switchable fixes beyond the paper.
+ *
+ * Per sample: the limit filter replaces an impulse by Dc; the anti-pulse
+ * window takes the result and its trimmed mean m becomes the new Dc; the
+ * Kalman filter smooths m; the stability detector watches the Kalman output;
+ * the output is the Kalman estimate minus the tare offset.
+ *
+ * Beyond the paper (each off in the paper preset):
+ *  - lock-out fix (lockout_n > 0): see sig_limit.h.  On a re-seed the window
+ *    is emptied so Dc follows the new level at once.
+ *  - motion-aware settling (motion_band > 0): when |m - x| > motion_band for
+ *    motion_count successive samples, or on a lock-out re-seed, the load
+ *    moved: the window is emptied (refilled from the current sample) and the
+ *    Kalman P is set back to P0, so the filter restarts as a running mean of
+ *    the new level instead of following at the steady-state gain.
+ *  - tare and zero tracking: sig_chain_tare_* takes the current Kalman
+ *    output as the offset when stable, or at the next stable sample
+ *    (pending).  Zero tracking (zero_band > 0): while stable and
+ *    |x - offset| <= zero_band, the offset moves towards x by at most
+ *    zero_rate per sample.
+ *
+ * Fixed form (_q): int32 ADC codes in (clamped to +-SIG_CODE_MAX, status
+ * SIG_WARN_CLAMPED); output, offset, thresholds of the Kalman side in Q24.7
+ * (codes * 128); see sig_kalman1.h for the gain formats.
+ *
+ * Status: negative = error, nothing changed; otherwise OR of
+ * SIG_WARN_CLAMPED, SIG_WARN_REJECTED (limit replaced the sample, or a
+ * non-finite sample), SIG_LIMIT_RESEEDED, SIG_CHAIN_MOTION, SIG_CHAIN_TARED.
+ * A non-finite sample before the first finite one returns SIG_ERR_NONFINITE.
+ */
+#ifndef SIG_CHAIN_H
+#define SIG_CHAIN_H
+
+#include "sig_types.h"
+#include "sig_limit.h"
+#include "sig_antipulse.h"
+#include "sig_kalman1.h"
+#include "sig_stable.h"
+
+#define SIG_CHAIN_MOTION ((sig_status)32)   /* motion detected: window and P restarted */
+#define SIG_CHAIN_TARED  ((sig_status)64)   /* a pending tare was applied on this sample */
+
+typedef struct {
+    sig_real a0;            /* limit threshold, > 0 */
+    uint8_t window;         /* anti-pulse N, 3..32 */
+    sig_real q, r, p0, x0;  /* Kalman */
+    bool seed_first;        /* Kalman starts from the first measurement */
+    sig_real stable_step;   /* >= 0 */
+    uint8_t stable_count;   /* >= 1 */
+    uint8_t lockout_n;      /* 0 = paper (no fix) */
+    sig_real motion_band;   /* 0 = off */
+    uint8_t motion_count;   /* >= 1 */
+    sig_real zero_band;     /* 0 = no zero tracking */
+    sig_real zero_rate;     /* max offset change per sample, >= 0 */
+} sig_chain_params_f;
+
+typedef struct {
+    int32_t a0;             /* codes, > 0 */
+    uint8_t window;
+    uint32_t q_q30;         /* Q/R in Q2.30, <= 1.0 */
+    uint32_t p0_q16;        /* P0/R in Q16.16, <= 16384 */
+    int32_t x0_q7;          /* Q24.7 */
+    bool seed_first;
+    int32_t stable_step_q7; /* Q24.7, >= 0 */
+    uint8_t stable_count;
+    uint8_t lockout_n;
+    int32_t motion_band_q7; /* Q24.7, 0 = off */
+    uint8_t motion_count;
+    int32_t zero_band_q7;   /* Q24.7, 0 = off */
+    int32_t zero_rate_q7;   /* Q24.7 per sample, >= 0 */
+} sig_chain_params_q;
+
+typedef struct {
+    sig_limit_f limit;
+    sig_antipulse_f ap;
+    sig_kalman1_f kf;
+    sig_stable_f st;
+    sig_real motion_band, zero_band, zero_rate;
+    sig_real offset;        /* tare / zero offset */
+    sig_real out;           /* last output */
+    uint8_t motion_count, motion_run;
+    bool tare_pending, stable, has_out;
+} sig_chain_f;
+
+typedef struct {
+    sig_limit_q limit;
+    sig_antipulse_q ap;
+    sig_kalman1_q kf;
+    sig_stable_q st;
+    int32_t motion_band, zero_band, zero_rate;   /* Q24.7 */
+    int32_t offset;         /* Q24.7 */
+    int32_t out;            /* Q24.7 */
+    uint8_t motion_count, motion_run;
+    bool tare_pending, stable, has_out;
+} sig_chain_q;
+
+/* The paper's parameters in kg: Q 1e-7, R 0.05, x0 1, P0 10, N 12, A0 2 kg
+ * (just above the paper's largest raw reading error, 1.86 kg), stable step
+ * 0.01 kg, count 1; no lock-out fix, no motion mode, no zero tracking. */
+sig_status sig_chain_params_paper_f(sig_chain_params_f *p);
+
+sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p);
+sig_status sig_chain_reset_f(sig_chain_f *c);        /* all stages, offset 0 */
+sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *stable);
+sig_status sig_chain_tare_f(sig_chain_f *c);         /* now if stable, else at the next stable sample */
+sig_status sig_chain_set_offset_f(sig_chain_f *c, sig_real offset);
+
+sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p);
+sig_status sig_chain_reset_q(sig_chain_q *c);
+sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *stable);
+sig_status sig_chain_tare_q(sig_chain_q *c);
+sig_status sig_chain_set_offset_q(sig_chain_q *c, int32_t offset_q7);
+
+#endif /* SIG_CHAIN_H */

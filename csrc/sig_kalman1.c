@@ -1,0 +1,143 @@
+/* sig_kalman1.c - scalar Kalman filter, float and fixed; see sig_kalman1.h. */
+#include "sig_kalman1.h"
+#include "sig_chain_math.h"
+
+static bool is_finite(sig_real x)
+{
+    return x - x == SIG_REAL(0.0);
+}
+
+sig_status sig_kalman1_init_f(sig_kalman1_f *s, sig_real q, sig_real r, sig_real p0,
+                              sig_real x0, bool seed_first)
+{
+    if (!s || !is_finite(q) || !is_finite(r) || !is_finite(p0) || !is_finite(x0)) return SIG_ERR_ARG;
+    if (q < SIG_REAL(0.0) || !(r > SIG_REAL(0.0)) || p0 < SIG_REAL(0.0)) return SIG_ERR_ARG;
+    s->q = q;
+    s->r = r;
+    s->p0 = p0;
+    s->x0 = x0;
+    s->seed_first = seed_first;
+    return sig_kalman1_reset_f(s);
+}
+
+sig_status sig_kalman1_reset_f(sig_kalman1_f *s)
+{
+    if (!s) return SIG_ERR_ARG;
+    s->x = s->x0;
+    s->p = s->p0;
+    s->k = SIG_REAL(0.0);
+    s->innov = SIG_REAL(0.0);
+    s->seeded = false;
+    return SIG_OK;
+}
+
+sig_status sig_kalman1_restart_f(sig_kalman1_f *s)
+{
+    if (!s) return SIG_ERR_ARG;
+    s->p = s->p0;
+    return SIG_OK;
+}
+
+sig_status sig_kalman1_step_f(sig_kalman1_f *s, sig_real z, sig_real *out)
+{
+    sig_real pm;
+    if (!s || !out) return SIG_ERR_ARG;
+    if (!is_finite(z)) return SIG_ERR_NONFINITE;
+    if (!s->seeded) {
+        s->seeded = true;
+        if (s->seed_first) s->x = z;
+    }
+    pm = s->p + s->q;
+    s->k = pm / (pm + s->r);
+    s->innov = z - s->x;
+    s->x = s->x + s->k * s->innov;
+    s->p = (SIG_REAL(1.0) - s->k) * pm;
+    *out = s->x;
+    return SIG_OK;
+}
+
+/* floor(2^46 / d) for 2^16 <= d < 2^31 by shift and subtract (init only). */
+static uint32_t recip46(uint32_t d)
+{
+    uint32_t r = 1u, y = 0u;
+    uint8_t i;
+    for (i = 0u; i < 46u; i++) {
+        r <<= 1;
+        y <<= 1;
+        if (r >= d) {
+            r -= d;
+            y |= 1u;
+        }
+    }
+    return y;
+}
+
+sig_status sig_kalman1_init_q(sig_kalman1_q *s, uint32_t q_q30, uint32_t p0_q16,
+                              int32_t x0_q7, bool seed_first)
+{
+    if (!s || q_q30 > SIG_KALMAN1_Q_MAX || p0_q16 > SIG_KALMAN1_P0_MAX) return SIG_ERR_ARG;
+    s->q = q_q30;
+    s->p0 = p0_q16;
+    s->x0 = x0_q7;
+    s->seed_first = seed_first;
+    /* 1 + p0 + q in Q16 (q rounded to Q16): < 2^31 by the limits above */
+    s->y1 = recip46(UINT32_C(65536) + p0_q16 + ((q_q30 + UINT32_C(8192)) >> 14));
+    return sig_kalman1_reset_q(s);
+}
+
+sig_status sig_kalman1_reset_q(sig_kalman1_q *s)
+{
+    if (!s) return SIG_ERR_ARG;
+    s->x = s->x0;
+    s->innov = 0;
+    s->y = SIG_Q30_ONE;
+    s->phase = 0u;
+    s->seeded = false;
+    return SIG_OK;
+}
+
+sig_status sig_kalman1_restart_q(sig_kalman1_q *s)
+{
+    if (!s) return SIG_ERR_ARG;
+    s->phase = 0u;
+    return SIG_OK;
+}
+
+/* One Newton step towards 1/d: y (2 - d y), all Q30; d < 2^32, y <= 2^30. */
+static uint32_t newton_recip(uint32_t y, uint32_t d)
+{
+    uint32_t t = sig_mul_q30_u32(d, y);
+    if (t >= UINT32_C(0x80000000)) return y >> 1;   /* seed above 2/d: halve (not reached from valid seeds) */
+    return sig_mul_q30_u32(y, UINT32_C(0x80000000) - t);
+}
+
+sig_status sig_kalman1_step_q(sig_kalman1_q *s, int32_t z_q7, int32_t *out_q7)
+{
+    uint32_t d, yn, half;
+    if (!s || !out_q7) return SIG_ERR_ARG;
+    if (!s->seeded) {
+        s->seeded = true;
+        if (s->seed_first) s->x = z_q7;
+    }
+    if (s->phase == 0u) {
+        s->y = s->y1;
+        s->phase = 1u;
+    } else if (s->phase != 3u) {
+        d = SIG_Q30_ONE + (SIG_Q30_ONE - s->y) + s->q;        /* 1 + K + q < 3 */
+        if (s->phase == 1u) {
+            half = d >> 1;                                     /* seed 1.5 - d/2, at least 0.25 */
+            yn = half < UINT32_C(0x50000000) ? UINT32_C(0x60000000) - half : UINT32_C(0x10000000);
+        } else {
+            yn = s->y;
+        }
+        yn = newton_recip(newton_recip(yn, d), d);
+        if (yn > SIG_Q30_ONE) yn = SIG_Q30_ONE;
+        if (yn == 0u) yn = 1u;
+        s->phase = (s->phase == 2u && yn == s->y) ? 3u : 2u;
+        s->y = yn;
+    }
+    s->innov = sig_sat_sub32(z_q7, s->x);
+    s->x = sig_sat_add32(s->x, sig_mul_q30_gain(s->innov, SIG_Q30_ONE - s->y));
+    *out_q7 = s->x;
+    return SIG_OK;
+}
