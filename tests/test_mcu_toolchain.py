@@ -13,6 +13,7 @@ from conftest import ROOT, require_tool
 
 sys.path.insert(0, str(ROOT / "bench" / "mcu"))
 import runner  # noqa: E402
+import vectors  # noqa: E402
 
 SELF = ROOT / "bench" / "mcu" / "selftest"
 COEF = [210371, -29930, 806]          # harness.c: 3.21, -0.4567, 0.0123 in Q16.16
@@ -83,3 +84,27 @@ def test_warnings_are_errors(tmp_path):
     src.write_text("int f(long x) { char c = x; return c; }\nint g(void) { int v; return v; }\n")
     with pytest.raises(runner.McuError, match="before initialization"):
         runner.build_mcs51([src], harness, outdir=tmp_path / "o51")
+
+
+@pytest.mark.parametrize("hwmult", [True, False], ids=["hwmult", "no-mult"])
+def test_msp430_int32_multiply_helper(hwmult, tmp_path):
+    """__mspabi_mpyl(_f5hw) on random, sign-extended 16-bit (its fast path)
+    and edge operands: the low 32 bits of the exact product."""
+    for t in ("clang-14", "mspdebug"):
+        require_tool(t)
+    import vectors
+    rng = np.random.default_rng(5)
+    edges = [0, 1, -1, 32767, -32768, 32768, -32769, 65535, -65536, 2**31 - 1, -2**31]
+    a = list(rng.integers(-2**31, 2**31, 40)) + list(rng.integers(-32768, 32768, 40)) + edges * 2
+    b = list(rng.integers(-2**31, 2**31, 40)) + list(rng.integers(-32768, 32768, 40)) + \
+        edges + edges[::-1]
+    (tmp_path / "mul_vectors.h").write_text(
+        f"#define MUL_N {len(a)}\n"
+        + vectors.c_array("int32_t", "mul_a", a, vectors.c_int32, const=False)
+        + vectors.c_array("int32_t", "mul_b", b, vectors.c_int32, const=False))
+    img = runner.build_msp430([], SELF / "mul_harness.c", hwmult=hwmult,
+                              include_dirs=[tmp_path], outdir=tmp_path / "o")
+    got = runner.measure(img, reads={"prod": 4 * len(a)})["reads"]["prod"]
+    got = struct.unpack(f"<{len(a)}i", got)
+    want = [((int(x) * int(y) + 2**31) % 2**32) - 2**31 for x, y in zip(a, b)]
+    assert list(got) == want

@@ -466,3 +466,30 @@ def measure(img: Image, funcs=(), regions=(), reads=None, stack=True, **kw) -> d
     if img.target == "msp430":
         return _measure_msp430(img, funcs, regions, reads, stack)
     return _measure_mcs51(img, funcs, regions, reads, stack, **kw)
+
+
+# ---------------------------------------------------------------- profile ---
+def profile(img: Image, func: str, n_instructions: int) -> list[dict]:
+    """Instruction profile of one call of `func` (called from main): the
+    simulator single-steps the call and attributes each executed instruction
+    to the function containing its address.  Rows: function, instructions
+    (exclusive), calls (entries at its first address), sorted by instructions.
+    MSP430 only (mspdebug `step`); 8051 histograms come from measure()."""
+    if img.target != "msp430":
+        raise McuError("profile() is for MSP430 images")
+    funcs = sorted((a, n) for n, a in img.symbols.items()
+                   if img.sizes.get(n, 0) > 0 and a >= 0x8000)
+    starts = [a for a, _ in funcs]
+    import bisect
+    entry = img.symbols[func]
+    out = _mspdebug(img, [f"setbreak {entry:#x}", "run", "delbreak"] + ["step"] * n_instructions)
+    pcs = [int(p, 16) for p in re.findall(r"\(\s*PC: ([0-9a-f]{5})\)", out)]
+    rows = {}
+    for pc in pcs[:n_instructions]:           # the first PC is the entry: executed next
+        i = bisect.bisect_right(starts, pc) - 1
+        name = funcs[i][1] if i >= 0 else f"{pc:#x}"
+        r = rows.setdefault(name, {"function": name, "instructions": 0, "calls": 0})
+        r["instructions"] += 1
+        if i >= 0 and pc == funcs[i][0]:
+            r["calls"] += 1
+    return sorted(rows.values(), key=lambda r: -r["instructions"])

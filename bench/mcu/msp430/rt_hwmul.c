@@ -46,8 +46,24 @@ static uint32_t mul32_lo(uint32_t a, uint32_t b)
     return ((uint32_t)hi << 16) | lo;
 }
 
+/* Fast paths: when both operands are zero-extended or both sign-extended
+ * 16-bit values (C code writes a 16x16->32 product as (int32_t)x * y or
+ * (uint32_t)x * y, and clang 14 has no widening multiply for the MSP430: it
+ * calls this 32x32 helper), one 16x16 product gives the exact 32-bit result.
+ * Added for the project (not in the shared recipe); checked on random and
+ * edge operands by tests/test_mcu_toolchain.py. */
 int32_t __mspabi_mpyl_f5hw(int32_t a, int32_t b)
 {
+    uint16_t a0 = (uint16_t)a, a1 = (uint16_t)((uint32_t)a >> 16);
+    uint16_t b0 = (uint16_t)b, b1 = (uint16_t)((uint32_t)b >> 16);
+    if ((a1 | b1) == 0u) {
+        MPY = a0; OP2 = b0;
+        return (int32_t)(((uint32_t)RESHI << 16) | RESLO);
+    }
+    if (a1 == ((int16_t)a0 < 0 ? 0xFFFFu : 0u) && b1 == ((int16_t)b0 < 0 ? 0xFFFFu : 0u)) {
+        MPYS = a0; OP2 = b0;
+        return (int32_t)(((uint32_t)RESHI << 16) | RESLO);
+    }
     return (int32_t)mul32_lo((uint32_t)a, (uint32_t)b);
 }
 
