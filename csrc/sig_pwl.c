@@ -1,30 +1,35 @@
 /* sig_pwl.c - piecewise-linear lookup table with uniform knots (see sig_pwl.h). */
 #include "sig_pwl.h"
 
-#define PWL_FRAC_MASK ((uint32_t)((UINT32_C(1) << SIG_PWL_FRAC_BITS) - 1u))
-
-/* Segment position (Q20.12) of an offset d from t_lo. */
-static uint32_t pwl_position(uint16_t d, uint16_t recip, uint8_t shift)
+/* floor(d * recip / 2^16) from two 16x16 -> 32 products: d * recip =
+ * d * rh * 2^16 + d * rl.  The callers keep the result below 2^32. */
+static uint32_t pwl_position(uint16_t d, uint32_t recip)
 {
-    return ((uint32_t)d * (uint32_t)recip) >> shift;
+    uint32_t rh = recip >> 16, rl = recip & 0xFFFFu;
+    return (uint32_t)d * rh + (((uint32_t)d * rl) >> 16);
 }
 
 sig_status sig_pwl_init_q16(sig_pwl_q16 *p, const int16_t *table, uint8_t n_knots,
-                            int16_t t_lo, int16_t t_hi, uint16_t recip, uint8_t shift,
-                            uint8_t value_frac)
+                            int16_t t_lo, int16_t t_hi, uint32_t recip, uint8_t value_frac)
 {
-    uint32_t end_pos;
+    uint32_t span, end_pos;
     if (p == NULL || table == NULL) return SIG_ERR_ARG;
-    if (n_knots < SIG_PWL_MIN_KNOTS || t_hi <= t_lo || recip == 0u || shift > 31u
-        || value_frac > 15u) return SIG_ERR_ARG;
-    end_pos = pwl_position((uint16_t)((int32_t)t_hi - (int32_t)t_lo), recip, shift);
-    if ((end_pos >> SIG_PWL_FRAC_BITS) < (uint32_t)(n_knots - 2u)
-        || end_pos > ((uint32_t)(n_knots - 1u) << SIG_PWL_FRAC_BITS)) return SIG_ERR_ARG;
+    if (n_knots < SIG_PWL_MIN_KNOTS || t_hi <= t_lo || recip == 0u || value_frac > 15u)
+        return SIG_ERR_ARG;
+    span = (uint32_t)((int32_t)t_hi - (int32_t)t_lo);
+    /* floor(span * recip / 2^16) must not exceed (n-1) * 2^16 <= 254 * 2^16:
+     * test span * (recip >> 16) first so that nothing below overflows. */
+    if ((recip >> 16) > (UINT32_C(255) << 16) / span) return SIG_ERR_ARG;
+    end_pos = pwl_position((uint16_t)span, recip);
+    if ((end_pos >> 16) < (uint32_t)(n_knots - 2u)
+        || end_pos > ((uint32_t)(n_knots - 1u) << 16)) return SIG_ERR_ARG;
     p->table = table;
+    p->recip = recip;
     p->t_lo = t_lo;
     p->t_hi = t_hi;
-    p->recip = recip;
-    p->shift = shift;
+    if (value_frac > 4u) p->out_mul = (uint16_t)(1u << (20u - value_frac));
+    else if (value_frac < 4u) p->out_mul = (uint16_t)(1u << (4u - value_frac));
+    else p->out_mul = 0u;
     p->n_knots = n_knots;
     p->value_frac = value_frac;
     return SIG_OK;
@@ -34,7 +39,7 @@ sig_status sig_pwl_eval_q16(const sig_pwl_q16 *p, int16_t t, int32_t *out_q16)
 {
     sig_status st = SIG_OK;
     uint32_t pos, seg;
-    int32_t acc, lo;
+    int32_t acc, lo, hi_word;
     if (p == NULL || out_q16 == NULL || p->table == NULL) return SIG_ERR_ARG;
     if (t < p->t_lo) {
         t = p->t_lo;
@@ -43,21 +48,27 @@ sig_status sig_pwl_eval_q16(const sig_pwl_q16 *p, int16_t t, int32_t *out_q16)
         t = p->t_hi;
         st = SIG_WARN_CLAMPED;
     }
-    pos = pwl_position((uint16_t)((int32_t)t - (int32_t)p->t_lo), p->recip, p->shift);
-    seg = pos >> SIG_PWL_FRAC_BITS;
+    pos = pwl_position((uint16_t)((int32_t)t - (int32_t)p->t_lo), p->recip);
+    seg = pos >> 16;
     if (seg >= (uint32_t)(p->n_knots - 1u)) {
         /* exactly on (or, by the reciprocal's rounding, a hair past) the last knot */
         acc = (int32_t)p->table[p->n_knots - 1u] * (INT32_C(1) << SIG_PWL_FRAC_BITS);
     } else {
         lo = p->table[seg];
         acc = lo * (INT32_C(1) << SIG_PWL_FRAC_BITS)
-            + ((int32_t)p->table[seg + 1u] - lo) * (int32_t)(pos & PWL_FRAC_MASK);
+            + ((int32_t)p->table[seg + 1u] - lo) * (int32_t)((uint16_t)pos >> 4);
     }
     /* acc has value_frac + 12 fraction bits; Q16.16 wants 16. */
-    if (p->value_frac >= 4u) {
-        *out_q16 = sig_asr32(acc, (uint8_t)(p->value_frac - 4u));
+    if (p->value_frac > 4u) {
+        /* floor(acc / 2^(vf-4)) = floor(acc * 2^(20-vf) / 2^16), split into
+         * the high (signed) and low (unsigned) halves of acc */
+        hi_word = sig_asr32(acc, 16);
+        *out_q16 = hi_word * (int32_t)p->out_mul
+                 + (int32_t)((((uint32_t)acc & 0xFFFFu) * p->out_mul) >> 16);
+    } else if (p->value_frac < 4u) {
+        *out_q16 = acc * (int32_t)p->out_mul;     /* |acc| <= 32767 * 2^12: fits */
     } else {
-        *out_q16 = sig_shl32_sat(acc, (uint8_t)(4u - p->value_frac));
+        *out_q16 = acc;
     }
     return st;
 }

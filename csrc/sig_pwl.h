@@ -5,23 +5,26 @@
  * uniformly spaced temperatures, linear interpolation between them, flat
  * (and flagged SIG_WARN_CLAMPED) outside [t_lo, t_hi].  No division on the
  * hot path: the segment position comes from one multiply by a precomputed
- * reciprocal and a shift.
+ * reciprocal and constant shifts.
  *
  * Fixed-point form (sig_pwl_q16):
  *   temperature   int16_t, the unit of the temperature-compensation module
- *                 (sig_tcomp.h); the table only needs it to be linear in T.
+ *                 (sig_tcomp.h: 0.01 °C); the table only needs it linear in T.
  *   d             t - t_lo after clamping to [t_lo, t_hi], 0 <= d <= 65535.
- *   position      pos = (d * recip) >> shift, unsigned Q20.12 segment
- *                 position: segment index = pos >> 12, fraction = pos & 0xFFF.
- *                 Knot k therefore sits at d_k = k * 4096 * 2^shift / recip
- *                 (a real number): the knots are uniform by construction.
+ *   position      pos = floor(d * recip / 2^16), unsigned Q16.16 segment
+ *                 position (recip = segments per temperature unit in Q0.32):
+ *                 segment = pos >> 16, frac = (pos & 0xFFFF) >> 4 (Q0.12).
+ *                 Knot k therefore sits at d_k = k * 2^32 / recip (a real
+ *                 number): the knots are uniform by construction.
  *   table         int16_t entries, value = entry * 2^-value_frac
  *                 (0 <= value_frac <= 15), one per knot.
- *   interpolation acc = (table[i] << 12) + (table[i+1] - table[i]) * frac,
- *                 int32, |acc| < 2^28, unit 2^-(value_frac + 12).
- *   output        int32_t Q16.16: acc rescaled by a floor shift
- *                 (sig_asr32) or a saturating left shift.
- * All products are 32-bit (no int64); nothing overflows for any input.
+ *   interpolation acc = table[i] * 2^12 + (table[i+1] - table[i]) * frac,
+ *                 int32, |acc| <= 32767 * 2^12, unit 2^-(value_frac + 12).
+ *   output        int32_t Q16.16 = floor(acc * 2^(4 - value_frac)), exact
+ *                 (|output| <= 32767 * 2^16: it never saturates).
+ * Every shift is by a constant and every product is 16x16 -> 32 bits (five
+ * per call; the value_frac rescaling is a multiply by a precomputed power of
+ * two), so the MSP430 never runs a variable-shift loop; no int64, no division.
  *
  * Float form (sig_pwl_f): the same table in sig_real, temperature in any
  * linear unit (°C in pysig), pos = (t - t_lo) * inv_step.
@@ -31,16 +34,17 @@
 
 #include "sig_types.h"
 
-#define SIG_PWL_FRAC_BITS 12       /* fraction bits of the segment position */
+#define SIG_PWL_FRAC_BITS 12       /* fraction bits used in the interpolation */
 #define SIG_PWL_MIN_KNOTS 2u
 #define SIG_PWL_MAX_KNOTS 255u
 
 typedef struct {
     const int16_t *table;  /* n_knots entries, caller-owned, value = entry * 2^-value_frac */
+    uint32_t recip;        /* segments per temperature unit, Q0.32, >= 1 */
     int16_t t_lo;          /* temperature of knot 0 and lower end of the valid range */
     int16_t t_hi;          /* upper end of the valid range (> t_lo) */
-    uint16_t recip;        /* segment position per temperature unit, Q(12 + shift) */
-    uint8_t shift;         /* 0..31 */
+    uint16_t out_mul;      /* derived by init: 2^(20 - value_frac) for value_frac > 4,
+                              2^(4 - value_frac) for value_frac < 4, unused at 4 */
     uint8_t n_knots;       /* 2..255 */
     uint8_t value_frac;    /* 0..15 */
 } sig_pwl_q16;
@@ -54,13 +58,12 @@ typedef struct {
 } sig_pwl_f;
 
 /* Checks and stores the parameters.  SIG_ERR_ARG (and *p untouched) for a
- * NULL pointer, n_knots outside 2..255, t_hi <= t_lo, recip == 0, shift > 31,
+ * NULL pointer, n_knots outside 2..255, t_hi <= t_lo, recip == 0,
  * value_frac > 15, or a position mapping under which [t_lo, t_hi] does not
- * end in the last segment ((span * recip) >> shift must lie in
- * [(n_knots - 2) << 12, (n_knots - 1) << 12]). */
+ * end in the last segment (floor(span * recip / 2^16) must lie in
+ * [(n_knots - 2) * 2^16, (n_knots - 1) * 2^16], span = t_hi - t_lo). */
 sig_status sig_pwl_init_q16(sig_pwl_q16 *p, const int16_t *table, uint8_t n_knots,
-                            int16_t t_lo, int16_t t_hi, uint16_t recip, uint8_t shift,
-                            uint8_t value_frac);
+                            int16_t t_lo, int16_t t_hi, uint32_t recip, uint8_t value_frac);
 
 /* f(t) in Q16.16.  SIG_WARN_CLAMPED when t was outside [t_lo, t_hi] (the
  * value at the nearer end is returned); SIG_ERR_ARG for NULL pointers. */

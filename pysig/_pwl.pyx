@@ -3,7 +3,7 @@
 numpy array of temperatures with the very C code the firmware runs."""
 import numpy as np
 cimport numpy as cnp
-from libc.stdint cimport int16_t, int32_t, uint8_t, uint16_t
+from libc.stdint cimport int16_t, int32_t, uint8_t, uint32_t
 from libc.math cimport NAN
 
 from .errors import RangeError, NonFiniteError
@@ -20,15 +20,14 @@ cdef extern from "sig_pwl.h":
     ctypedef struct sig_pwl_f:
         pass
     sig_status sig_pwl_init_q16(sig_pwl_q16 *p, const int16_t *table, uint8_t n_knots,
-                                int16_t t_lo, int16_t t_hi, uint16_t recip, uint8_t shift,
-                                uint8_t value_frac)
+                                int16_t t_lo, int16_t t_hi, uint32_t recip, uint8_t value_frac)
     sig_status sig_pwl_eval_q16(const sig_pwl_q16 *p, int16_t t, int32_t *out_q16) nogil
     sig_status sig_pwl_init_f(sig_pwl_f *p, const sig_real *table, uint8_t n_knots,
                               sig_real t_lo, sig_real t_hi, sig_real inv_step)
     sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out) nogil
 
 
-def eval_q16(table, int t_lo, int t_hi, int recip, int shift, int value_frac, t):
+def eval_q16(table, long long t_lo, long long t_hi, long long recip, long long value_frac, t):
     """C sig_pwl_eval_q16 over int16 temperatures `t`.
 
     Returns (values int32 Q16.16, status int16 per element).  Raises
@@ -41,14 +40,13 @@ def eval_q16(table, int t_lo, int t_hi, int recip, int shift, int value_frac, t)
     cdef sig_pwl_q16 p
     cdef int32_t y
     if tab.shape[0] > 255 or not (-32768 <= t_lo <= 32767 and -32768 <= t_hi <= 32767
-                                  and 0 <= recip <= 65535 and 0 <= shift <= 255
-                                  and 0 <= value_frac <= 255):
+                                  and 0 <= recip <= 0xFFFFFFFF and 0 <= value_frac <= 255):
         raise RangeError("pwl: table or parameters out of their C types' range")
     if tab.shape[0] == 0 or sig_pwl_init_q16(&p, &tab[0], <uint8_t>tab.shape[0], <int16_t>t_lo,
-                                             <int16_t>t_hi, <uint16_t>recip, <uint8_t>shift,
+                                             <int16_t>t_hi, <uint32_t>recip,
                                              <uint8_t>value_frac) != 0:
         raise RangeError(f"pwl: sig_pwl_init_q16 rejected n_knots={tab.shape[0]}, t_lo={t_lo}, "
-                         f"t_hi={t_hi}, recip={recip}, shift={shift}, value_frac={value_frac}")
+                         f"t_hi={t_hi}, recip={recip}, value_frac={value_frac}")
     with nogil:
         for i in range(n):
             y = 0

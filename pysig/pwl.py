@@ -8,9 +8,8 @@ the knot values v_j are the least-squares coefficients.  Outside
 [k_0, t_hi] the table is flat (the C flags it SIG_WARN_CLAMPED).
 
 The fixed-point form places its knots where the C puts them: the segment
-position is (d * recip) >> shift in Q20.12, d = t - t_lo in the integer
-temperature unit, so knot k is at t_lo + k * 4096 * 2^shift / recip units
-exactly; the fixed-point table is fitted on those knots, then rounded to
+position is d * recip / 2^32, d = t - t_lo in the integer temperature unit,
+so knot k is at t_lo + k * 2^32 / recip units exactly; the fixed-point table is fitted on those knots, then rounded to
 int16 with the largest value_frac (fraction bits) that fits."""
 from dataclasses import dataclass
 
@@ -24,9 +23,12 @@ from .reference import pwl as ref
 FRAC_BITS = ref.FRAC_BITS
 MIN_KNOTS = ref.MIN_KNOTS
 MAX_KNOTS = ref.MAX_KNOTS
-#: bytes of the fixed-point parameters besides the table: t_lo, t_hi,
-#: recip (int16/uint16 each), shift, n_knots, value_frac (uint8 each).
-Q16_HEADER_BYTES = 9
+#: the int16 temperature unit of the temperature-compensation module
+#: (csrc/sig_tcomp.h, SIG_TCOMP_T_PER_DEGC): 0.01 °C.
+TEMP_UNITS_PER_C = 100
+#: bytes of the fixed-point parameters besides the table: recip (uint32),
+#: t_lo, t_hi (int16), n_knots, value_frac (uint8).
+Q16_HEADER_BYTES = 10
 
 
 @dataclass(frozen=True)
@@ -72,8 +74,7 @@ class PwlQ16:
     table: np.ndarray          # int16, value = entry * 2^-value_frac
     t_lo: int
     t_hi: int
-    recip: int
-    shift: int
+    recip: int                 # segments per temperature unit, Q0.32
     value_frac: int
     units_per_c: float
     rms: float                 # in-sample RMS of the fixed-point table on the fitted data
@@ -88,7 +89,7 @@ class PwlQ16:
 
     def knots_c(self):
         """Exact knot temperatures in °C."""
-        return (self.t_lo + np.asarray(ref.knot_offsets_q16(self.n_knots, self.recip, self.shift))) \
+        return (self.t_lo + np.asarray(ref.knot_offsets_q16(self.n_knots, self.recip))) \
             / self.units_per_c
 
     def temp_int(self, temp_c):
@@ -97,8 +98,8 @@ class PwlQ16:
 
     def eval_c(self, temp_int):
         """(Q16.16 int32 values, status) from csrc sig_pwl_eval_q16."""
-        return _pwl.eval_q16(self.table, self.t_lo, self.t_hi, self.recip, self.shift,
-                             self.value_frac, temp_int)
+        return _pwl.eval_q16(self.table, self.t_lo, self.t_hi, self.recip, self.value_frac,
+                             temp_int)
 
     def __call__(self, temp_c):
         """Value in the data's unit of the C fixed-point evaluation at °C temperatures."""
@@ -210,22 +211,18 @@ def fit_pwl(temp, y, n_knots, lo=None, hi=None, bridge=False, what="pwl fit"):
 
 
 def plan_q16(t_lo, t_hi, n_knots, what="pwl"):
-    """(recip, shift) for sig_pwl_q16: recip normalised to [2^15, 2^16) for
-    precision, rounded down so the last knot is at or just past t_hi."""
+    """recip (segments per temperature unit, Q0.32) for sig_pwl_q16, rounded
+    down so the last knot is at or just past t_hi."""
     span = int(t_hi) - int(t_lo)
     if not 0 < span <= 65535:
         raise RangeError(f"{what}: temperature span of {span} units; the table needs 1..65535")
-    num = (int(n_knots) - 1) << FRAC_BITS          # rate = num / span (Q12 position per unit)
-    if num > 65535 * span:
-        raise RangeError(f"{what}: {n_knots} knots over {span} temperature units are closer "
-                         f"than the fixed-point position can resolve; use fewer knots")
-    shift = 0
-    while (num << shift) < 32768 * span and shift < 31:
-        shift += 1
-    recip = (num << shift) // span
-    if not ref.params_valid_q16(int(n_knots), int(t_lo), int(t_hi), recip, shift, 0):
+    if int(n_knots) - 1 >= span:
+        raise RangeError(f"{what}: {n_knots} knots over {span} temperature units would be closer "
+                         f"than one unit; use fewer knots")
+    recip = ((int(n_knots) - 1) << 32) // span
+    if not ref.params_valid_q16(int(n_knots), int(t_lo), int(t_hi), recip, 0):
         raise RangeError(f"{what}: no valid position mapping for {n_knots} knots over {span} units")
-    return recip, shift
+    return recip
 
 
 def quantize_values(values, what="pwl"):
@@ -240,7 +237,7 @@ def quantize_values(values, what="pwl"):
                      f"table's range (±32767)")
 
 
-def fit_pwl_q16(temp, y, n_knots, units_per_c, lo=None, hi=None, bridge=False, what="pwl fit"):
+def fit_pwl_q16(temp, y, n_knots, units_per_c=TEMP_UNITS_PER_C, lo=None, hi=None, bridge=False, what="pwl fit"):
     """Fixed-point table for sig_pwl_eval_q16: integer range inside the data
     (lo rounded up, hi down, in units of 1/units_per_c °C), knots where the C
     puts them, least squares on those knots, int16 rounding.  The reported
@@ -253,12 +250,12 @@ def fit_pwl_q16(temp, y, n_knots, units_per_c, lo=None, hi=None, bridge=False, w
     if not (-32768 <= t_lo < t_hi <= 32767):
         raise RangeError(f"{what}: range [{lo:g}, {hi:g}] °C is not an int16 span in units of "
                          f"1/{scale:g} °C")
-    recip, shift = plan_q16(t_lo, t_hi, n_knots, what)
-    knots = (t_lo + np.asarray(ref.knot_offsets_q16(int(n_knots), recip, shift))) / scale
+    recip = plan_q16(t_lo, t_hi, n_knots, what)
+    knots = (t_lo + np.asarray(ref.knot_offsets_q16(int(n_knots), recip))) / scale
     values, _ = _solve(temp, y, knots, bridge, what)
     table, vf = quantize_values(values, what)
-    tab = PwlQ16(table=table, t_lo=t_lo, t_hi=t_hi, recip=recip, shift=shift, value_frac=vf,
+    tab = PwlQ16(table=table, t_lo=t_lo, t_hi=t_hi, recip=recip, value_frac=vf,
                  units_per_c=scale, rms=0.0)
     resid = y - tab(temp)
-    return PwlQ16(table=table, t_lo=t_lo, t_hi=t_hi, recip=recip, shift=shift, value_frac=vf,
+    return PwlQ16(table=table, t_lo=t_lo, t_hi=t_hi, recip=recip, value_frac=vf,
                   units_per_c=scale, rms=float(np.sqrt(np.mean(resid ** 2))))
