@@ -58,8 +58,51 @@ def seeds_pwl():
           + f32(-3.4028235e38, 3.4028235e38, 0.0) + f32(0.5, 1.5))
 
 
+def seeds_image():
+    """Hand-framed images in each harness mode (raw, fixed-up, structured)."""
+    write("image", "seed-raw-empty-image", b"\x00" + _sealed(b"", 7))
+    write("image", "seed-raw-not-an-image", b"\x00" + b"PK\x03\x04" + bytes(40))
+    write("image", "seed-fixup-body", b"\x01" + bytes(12) + struct.pack("<HH", 6, 4) + i32(-1) + bytes(2))
+    # structured: n_axes, order, extra, [unknown type], u_shift, t_lo t_hi t_center t0 u_mul, q + coefs
+    for k, (axes, order, extra) in enumerate([(0, 1, 0), (2, 1, 5), (1, 7, 1)]):
+        body = bytes([axes, order, extra])
+        if extra & 1:
+            body += struct.pack("<H", 0x1234)
+        body += bytes([14]) + struct.pack("<5h", -4000, 8500, 2250, 2500, 9000)
+        for _ in range(axes % 3 + 1):
+            body += bytes([20]) + b"".join(edgy(v) for v in [1 << 20, -(1 << 18), 12345, 0, 7, -7, 1, 2, 3][:order % 8 + 2])
+        body += struct.pack("<hh", 2500, -5000) + i32(1)
+        write("image", f"seed-structured-{k}", b"\x02" + body)
+
+
+def _sealed(body, seq):
+    import binascii
+    data = b"psig" + bytes([1, 0]) + struct.pack("<HI", 12 + len(body) + 2, seq) + body
+    return data + struct.pack("<H", binascii.crc_hqx(data, 0xFFFF))
+
+
+def seeds_tcomp():
+    # fixed: mode 0, n_axes, order, steer, u_shift, t_lo t_hi t_center t0 u_mul, coefs (edgy), q x3, then t + readings
+    for k, (axes, order, steer, lo, hi) in enumerate([(3, 2, 1, -4000, 8500), (1, 8, 1, -32768, 32767),
+                                                      (2, 1, 3, 2500, 2501), (1, 1, 0, 0, 100)]):
+        n = (axes % 3 + 1) * (order % 8 + 1) if steer & 1 else axes * (order + 1)
+        coefs = b"".join(edgy(v) for v in ([1 << 24, -(1 << 20), 77, -1, 2**31 - 1, -2**31, 5, 6, 7] * 3)[:n])
+        body = bytes([0, axes, order, steer, 14]) + struct.pack("<5h", lo, hi, (lo + hi) // 2, 2500, 300)
+        body += coefs + bytes([16, 30, 0]) + struct.pack("<8h", -32768, -32768, 32767, 32767, 2500, 100, -100, 0)
+        write("tcomp", f"seed-q-{k}", body)
+    # float: mode 1, n_axes, order, steer, then t_lo t_hi center inv_scale (raw) or steered ranges
+    write("tcomp", "seed-f-steered", bytes([1, 2, 1, 1]) + f32(0, 0, 0, 0) + struct.pack("<hH", -4000, 12500)
+          + i32(*[65536 * v for v in (3, -2, 1, 4, 5, 6, 7, 8, 9)]) + f32(*F_SPECIAL))
+    write("tcomp", "seed-f-raw", bytes([1, 0, 1, 4]) + f32(-40.0, 85.0, 22.5, 0.016) + f32(1.0, 2.0)
+          + f32(*F_SPECIAL))
+    write("tcomp", "seed-f-overflow", bytes([1, 0, 2, 4]) + f32(-1.0, 1.0, 0.0, 1.0)
+          + f32(3.4e38, 3.4e38, 3.4e38) + f32(1.0, 3.4e38, -3.4e38, 3.4e38))
+
+
 if __name__ == "__main__":
     seeds_types()
     seeds_pwl()
+    seeds_image()
+    seeds_tcomp()
     for d in sorted(CORPUS.iterdir()):
         print(f"{d.name}: {len(list(d.iterdir()))} seeds")

@@ -1,0 +1,218 @@
+/* fuzz_image.c - the coefficient-image parser (sig_image) and the tcomp
+ * loader (sig_tcomp_load_image) with arbitrary bytes.
+ *
+ * The first input byte picks how the rest becomes an image:
+ *   raw         the bytes as they are (almost always rejected early);
+ *   fixed-up    header magic/version/total_len and the CRC are patched so
+ *               the section walk and the loaders see arbitrary bodies;
+ *   structured  a well-framed image with an offset-polynomial section of
+ *               fuzzed contents, between sections of fuzzed types.
+ * Every image is copied into a heap buffer of exactly its length, so a read
+ * past the end is an AddressSanitizer report.  Invariants:
+ *   - sig_image_validate's status equals an independent re-implementation
+ *     here (own bitwise CRC): an image is accepted only if its CRC matches;
+ *   - a found section lies inside [12, total_len - 2);
+ *   - sig_tcomp_load_image leaves the model untouched on error, and a loaded
+ *     model is in range and can be applied to any temperature and reading;
+ *   - for an accepted image: any single bit flip outside the length field,
+ *     and any truncation below total_len, is rejected; the A/B loader then
+ *     keeps the good slot, and of two good slots picks the newer sequence. */
+#include <stdlib.h>
+
+#include "fuzz_input.h"
+#include "sig_crc16.h"
+#include "sig_image.h"
+#include "sig_tcomp.h"
+
+#define REQUIRE(cond) do { if (!(cond)) abort(); } while (0)
+
+static uint16_t ref_crc(const uint8_t *d, size_t n)
+{
+    uint16_t crc = 0xFFFFu;
+    size_t i;
+    int b;
+    for (i = 0; i < n; i++) {
+        crc ^= (uint16_t)(d[i] << 8);
+        for (b = 0; b < 8; b++) crc = (crc & 0x8000u) ? (uint16_t)((crc << 1) ^ 0x1021u) : (uint16_t)(crc << 1);
+    }
+    return crc;
+}
+
+static unsigned rd16(const uint8_t *p) { return (unsigned)p[0] | ((unsigned)p[1] << 8); }
+
+static void wr16(uint8_t *p, unsigned v) { p[0] = (uint8_t)v; p[1] = (uint8_t)(v >> 8); }
+
+static sig_status ref_validate(const uint8_t *b, size_t len)
+{
+    size_t total, end, pos;
+    if (len < 14) return SIG_ERR_FORMAT;
+    if (memcmp(b, "psig", 4) != 0 || b[4] != 1 || b[5] != 0) return SIG_ERR_FORMAT;
+    total = rd16(b + 6);
+    if (total < 14 || total > len) return SIG_ERR_FORMAT;
+    end = total - 2;
+    if (ref_crc(b, end) != rd16(b + end)) return SIG_ERR_CRC;
+    for (pos = 12; pos < end;) {
+        if (end - pos < 4 || rd16(b + pos) == 0) return SIG_ERR_FORMAT;
+        pos += 4 + rd16(b + pos + 2);
+        if (pos > end) return SIG_ERR_FORMAT;
+    }
+    return SIG_OK;
+}
+
+/* Finish an image in place: header fields, total_len = len, CRC at the end. */
+static void seal(uint8_t *b, size_t len, uint32_t seq)
+{
+    memcpy(b, "psig", 4);
+    b[4] = 1;
+    b[5] = 0;
+    wr16(b + 6, (unsigned)len);
+    b[8] = (uint8_t)seq; b[9] = (uint8_t)(seq >> 8); b[10] = (uint8_t)(seq >> 16); b[11] = (uint8_t)(seq >> 24);
+    wr16(b + len - 2, ref_crc(b, len - 2));
+}
+
+static uint8_t *copy_exact(const uint8_t *src, size_t len)
+{
+    uint8_t *p = malloc(len ? len : 1u);
+    if (len) memcpy(p, src, len);
+    return p;
+}
+
+static void check_model(const sig_tcomp_q *m, fuzz_input *in)
+{
+    int16_t r[3], out[3];
+    int k;
+    REQUIRE(m->n_axes >= 1 && m->n_axes <= 3 && m->order >= 1 && m->order <= 8);
+    REQUIRE(m->t_lo < m->t_hi && m->t_center >= m->t_lo && m->t_center <= m->t_hi);
+    REQUIRE(m->u_mul > 0 && m->u_shift <= 30);
+    for (k = 0; k < 3; k++) REQUIRE(m->q[k] <= 30);
+    for (k = 0; k < 4; k++) {
+        int16_t t = k == 0 ? INT16_MIN : k == 1 ? INT16_MAX : fuzz_i16(in);
+        sig_status st;
+        r[0] = fuzz_i16(in); r[1] = INT16_MIN; r[2] = INT16_MAX;
+        st = sig_tcomp_apply_q(m, t, r, out);
+        REQUIRE(st >= 0 && (st & ~(SIG_WARN_CLAMPED | SIG_WARN_SATURATED)) == 0);
+        REQUIRE(((st & SIG_WARN_CLAMPED) != 0) == (t < m->t_lo || t > m->t_hi));
+    }
+}
+
+static void check_image(const uint8_t *img, size_t len, int sealed, fuzz_input *in)
+{
+    uint8_t *buf = copy_exact(img, len);
+    sig_status st = sig_image_validate(buf, len), st2;
+    sig_tcomp_q m, before;
+    const uint8_t *payload;
+    uint16_t plen;
+    uint32_t seq;
+    uint8_t which;
+    unsigned type;
+
+    REQUIRE(st == ref_validate(buf, len));
+    if (sealed) REQUIRE(st == SIG_OK || st == SIG_ERR_FORMAT);   /* the CRC we wrote matches */
+
+    for (type = 1; type <= 8; type++) {
+        payload = NULL;
+        plen = 0;
+        st2 = sig_image_find_section(buf, len, (uint16_t)type, &payload, &plen);
+        if (st != SIG_OK) REQUIRE(st2 == st && payload == NULL);
+        else if (st2 == SIG_OK) {
+            size_t end = rd16(buf + 6) - 2u;
+            REQUIRE(payload >= buf + 16 && payload + plen <= buf + end);
+            REQUIRE(rd16(payload - 4) == type && rd16(payload - 2) == plen);
+        } else REQUIRE(st2 == SIG_ERR_EMPTY);
+    }
+
+    memset(&m, 0xC3, sizeof m);
+    before = m;
+    st2 = sig_tcomp_load_image(&m, buf, len);
+    if (st2 == SIG_OK) {
+        REQUIRE(st == SIG_OK);
+        check_model(&m, in);
+    } else {
+        REQUIRE(st2 == SIG_ERR_FORMAT || st2 == SIG_ERR_CRC || st2 == SIG_ERR_EMPTY);
+        REQUIRE(st != SIG_OK || st2 != SIG_ERR_CRC);
+        REQUIRE(memcmp(&m, &before, sizeof m) == 0);
+    }
+
+    if (st == SIG_OK) {
+        size_t total = rd16(buf + 6), bit = fuzz_u16(in) % (total * 8u), cut = fuzz_u16(in) % total;
+        uint8_t *flipped = copy_exact(buf, len), *cutbuf = copy_exact(buf, cut);
+        REQUIRE(sig_image_sequence(buf, len, &seq) == SIG_OK);
+        if (bit / 8u == 6 || bit / 8u == 7) bit += 16;      /* a flipped length may frame a new image */
+        if (bit / 8u < total) {
+            flipped[bit / 8u] ^= (uint8_t)(1u << (bit % 8u));
+            REQUIRE(sig_image_validate(flipped, len) != SIG_OK);
+            REQUIRE(sig_image_select_slot(buf, len, flipped, len, &which) == SIG_OK && which == SIG_IMAGE_SLOT_A);
+            REQUIRE(sig_image_select_slot(flipped, len, buf, len, &which) == SIG_OK && which == SIG_IMAGE_SLOT_B);
+        }
+        REQUIRE(sig_image_validate(cutbuf, cut) != SIG_OK);
+        REQUIRE(sig_image_select_slot(cutbuf, cut, buf, len, &which) == SIG_OK && which == SIG_IMAGE_SLOT_B);
+        REQUIRE(sig_image_select_slot(NULL, 0, NULL, 0, &which) == SIG_ERR_EMPTY);
+        if (total == len) {
+            /* the same image re-sealed with a sequence number d ahead */
+            uint32_t d = (uint32_t)fuzz_take_bits(in, 4), diff;
+            memcpy(flipped, buf, len);
+            seal(flipped, len, seq + d);
+            diff = d;
+            REQUIRE(sig_image_select_slot(buf, len, flipped, len, &which) == SIG_OK);
+            REQUIRE(which == ((diff != 0 && diff < 0x80000000u) ? SIG_IMAGE_SLOT_B : SIG_IMAGE_SLOT_A));
+        }
+        free(flipped);
+        free(cutbuf);
+    }
+    free(buf);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    fuzz_input in = fuzz_input_make(data, size);
+    uint8_t mode = fuzz_u8(&in) % 3u;
+    const uint8_t *body = data + in.pos;
+    size_t n = size - in.pos;
+
+    if (mode == 0) {
+        check_image(body, n, 0, &in);
+    } else if (mode == 1) {
+        uint8_t *img;
+        size_t len = n < 14 ? 14 : n > 4096 ? 4096 : n;
+        img = calloc(len, 1);
+        memcpy(img, body, n < len ? n : len);
+        seal(img, len, rd16(img + 8) | ((uint32_t)rd16(img + 10) << 16));
+        in.pos = in.size;                        /* the body is spent */
+        check_image(img, len, 1, &in);
+        free(img);
+    } else {
+        uint8_t img[4096];
+        size_t pos = 12;
+        uint8_t n_axes = fuzz_u8(&in), order = fuzz_u8(&in), extra = fuzz_u8(&in);
+        unsigned a, k, plen, axes = 1u + n_axes % 3u, ord = 1u + order % 8u;
+        if (extra & 0x80u) { axes = n_axes; ord = order; }    /* out-of-range counts too */
+        plen = 14u + (axes > 3 || ord > 8 ? 0u : axes * (1u + 4u * (ord + 1u)));
+        if (extra & 1u) {                                     /* an unknown section first */
+            wr16(img + pos, 0x8000u | fuzz_u16(&in)); wr16(img + pos + 2, 3);
+            img[pos + 4] = img[pos + 5] = img[pos + 6] = 0xEE;
+            pos += 7;
+        }
+        wr16(img + pos, SIG_SECTION_OFFSET_POLY);
+        wr16(img + pos + 2, plen);
+        img[pos + 4] = (uint8_t)axes;
+        img[pos + 5] = (uint8_t)ord;
+        img[pos + 6] = fuzz_u8(&in) % 32u;                       /* u_shift */
+        img[pos + 7] = (extra & 2u) ? fuzz_u8(&in) : 0u;         /* reserved */
+        for (k = 8; k < 18; k++) img[pos + k] = fuzz_u8(&in);    /* t_lo t_hi t_center t0 u_mul */
+        pos += 18;
+        for (a = 0; plen > 14u && a < axes; a++) {
+            img[pos++] = fuzz_u8(&in) % 32u;
+            for (k = 0; k <= ord; k++) {
+                int32_t c = fuzz_i32_edgy(&in);
+                wr16(img + pos, (unsigned)(uint32_t)c & 0xFFFFu);
+                wr16(img + pos + 2, (unsigned)((uint32_t)c >> 16));
+                pos += 4;
+            }
+        }
+        if (extra & 4u) { wr16(img + pos, SIG_SECTION_PWL_TABLE); wr16(img + pos + 2, 0); pos += 4; }
+        pos += 2;
+        seal(img, pos, (uint32_t)fuzz_take_bits(&in, 4));
+        check_image(img, pos, 1, &in);
+    }
+    return 0;
+}
