@@ -1,0 +1,555 @@
+"""The weighing chain in plain Python: the executable spec of csrc/sig_limit.c,
+sig_antipulse.c, sig_kalman1.c, sig_stable.c and sig_chain.c.
+
+Read next to the paper: limit filter -> anti-pulse filter -> scalar Kalman
+filter -> stability detector.  Every class takes `fixed=False` (floating
+point, Python float == C double) or `fixed=True` (the C fixed-point form:
+integer ADC codes, Kalman state in Q24.7, gain in Q2.30; computed here with
+Python ints so the result is the C result bit for bit).
+
+Units.  The stage classes take parameters and samples in signal units
+(ADC codes, or kg).  `Chain` takes the preset's parameters in kg and a
+`units_per_kg` scale (signal units per kg), so the same preset serves a kg
+signal (units_per_kg=1) and ADC counts.  Q, R and P0 are variances: they
+scale with units_per_kg squared.
+"""
+import math
+
+import numpy as np
+
+from ..errors import NonFiniteError, RangeError
+
+# ---- status codes (csrc/sig_types.h, sig_limit.h, sig_chain.h) -------------
+OK = 0
+WARN_CLAMPED = 1
+WARN_REJECTED = 4
+LIMIT_RESEEDED = 16
+CHAIN_MOTION = 32
+CHAIN_TARED = 64
+ERR_NONFINITE = -2
+
+INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
+CODE_MAX = (1 << 24) - 1          # fixed-form input range, sig_antipulse.h
+WINDOW_MAX = 32
+Q30 = 1 << 30
+Q_MAX_Q30 = 1 << 30               # Q/R <= 1
+P0_MAX_Q16 = 1 << 30              # P0/R <= 16384
+
+LB_PER_KG = 1 / 0.45359237
+
+# Presets.  Every value is in kg (variances in kg^2); `units_per_kg` is the
+# default scale of the signal the preset expects.
+PRESETS = {
+    # The paper exactly: Q, R, x0, P0, N as published.  A0 is not given in
+    # the paper: 2 kg, just above its largest raw reading error (1.86 kg at
+    # 30 kg), so every reading the paper reports passes and larger pulses are
+    # cut.  The stability step (not given either) is 0.01 kg, one scale
+    # division of a 50 kg / 5000 e scale; count 1 as in the paper.
+    "paper": dict(A0=2.0, window=12, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False,
+                  stable_step=0.01, stable_count=1, lockout_n=0,
+                  motion_band=0.0, motion_count=1, zero_band=0.0, zero_rate=0.0,
+                  units_per_kg=1.0),
+    # The default everywhere.  Tuned on the real HX711 step recording
+    # (../shared/data/hx711_steps_10hz: ~1000 counts/lb, ~70 counts noise),
+    # so its default scale is HX711 counts at 1000 counts per lb.  R is the
+    # variance of one reading (0.032 kg ~ 70 counts); Kalman starts from the
+    # first sample; the lock-out fix accepts a level after 3 rejections on
+    # one side; motion mode restarts window and P when the window mean leaves
+    # the estimate by more than 0.1 kg twice in a row; zero tracking within
+    # 0.05 kg of zero at 0.5 g per sample.
+    "recommended": dict(A0=1.0, window=12, Q=1e-8, R=1e-3, x0=0.0, P0=10.0, seed_first=True,
+                        stable_step=0.004, stable_count=5, lockout_n=3,
+                        motion_band=0.1, motion_count=2, zero_band=0.05, zero_rate=0.0005,
+                        units_per_kg=1000.0 * LB_PER_KG),
+}
+PARAM_NAMES = tuple(k for k in PRESETS["paper"] if k != "units_per_kg")
+_COUNTS = ("window", "stable_count", "lockout_n", "motion_count")
+
+
+def _check(cond, name, value, what):
+    if not cond:
+        raise RangeError(f"parameter {name}={value!r}: {what}")
+
+
+def _finite(name, value):
+    _check(isinstance(value, (int, float, np.integer, np.floating)) and math.isfinite(value),
+           name, value, "must be a finite number")
+
+
+def chain_params(preset="recommended", units_per_kg=None, **overrides):
+    """Parameters of a Chain in signal units (floats), from a preset in kg,
+    the scale and overrides (also in kg).  Raises RangeError naming the bad
+    parameter."""
+    if preset not in PRESETS:
+        raise RangeError(f"unknown preset {preset!r} (choose from {', '.join(PRESETS)})")
+    p = dict(PRESETS[preset])
+    for k, v in overrides.items():
+        if k not in p:
+            raise RangeError(f"unknown chain parameter {k!r} (known: {', '.join(p)})")
+        if v is not None:
+            p[k] = v
+    if units_per_kg is not None:
+        p["units_per_kg"] = units_per_kg
+    s = p.pop("units_per_kg")
+    _finite("units_per_kg", s)
+    _check(s > 0, "units_per_kg", s, "must be > 0")
+    for k in _COUNTS:
+        v = p[k]
+        _check(float(v) == int(v), k, v, "must be an integer")
+        p[k] = int(v)
+    p["seed_first"] = bool(p["seed_first"])
+    for k in ("A0", "Q", "R", "P0", "x0", "stable_step", "motion_band", "zero_band", "zero_rate"):
+        _finite(k, p[k])
+    _check(p["A0"] > 0, "A0", p["A0"], "must be > 0")
+    _check(3 <= p["window"] <= WINDOW_MAX, "window", p["window"], f"must be in 3..{WINDOW_MAX}")
+    _check(p["R"] > 0, "R", p["R"], "must be > 0")
+    for k in ("Q", "P0", "stable_step", "motion_band", "zero_band", "zero_rate"):
+        _check(p[k] >= 0, k, p[k], "must be >= 0")
+    for k, lo in (("stable_count", 1), ("motion_count", 1), ("lockout_n", 0)):
+        _check(lo <= p[k] <= 255, k, p[k], f"must be in {lo}..255")
+    for k in ("A0", "x0", "stable_step", "motion_band", "zero_band", "zero_rate"):
+        p[k] = float(p[k]) * s
+    for k in ("Q", "R", "P0"):
+        p[k] = float(p[k]) * s * s
+    return p
+
+
+def _round_int32(name, value):
+    v = round(value)
+    _check(INT32_MIN <= v <= INT32_MAX, name, value, "out of the int32 range in fixed point")
+    return int(v)
+
+
+def kalman_fixed_params(Q, R, P0, x0):
+    """(q_q30, p0_q16, x0_q7) of the fixed Kalman from signal-unit floats."""
+    _check(R > 0, "R", R, "must be > 0")
+    q = round(Q / R * Q30)
+    p0 = round(P0 / R * 65536)
+    _check(0 <= q <= Q_MAX_Q30, "Q", Q, "fixed point needs 0 <= Q/R <= 1")
+    _check(0 <= p0 <= P0_MAX_Q16, "P0", P0, "fixed point needs 0 <= P0/R <= 16384")
+    return int(q), int(p0), _round_int32("x0", x0 * 128)
+
+
+def chain_fixed_params(p):
+    """The sig_chain_params_q fields from chain_params() output."""
+    q, p0, x0 = kalman_fixed_params(p["Q"], p["R"], p["P0"], p["x0"])
+    a0 = _round_int32("A0", p["A0"])
+    _check(a0 > 0, "A0", p["A0"], "rounds to 0 codes in fixed point")
+    return dict(a0=a0, window=p["window"], q_q30=q, p0_q16=p0, x0_q7=x0,
+                seed_first=p["seed_first"],
+                stable_step_q7=_round_int32("stable_step", p["stable_step"] * 128),
+                stable_count=p["stable_count"], lockout_n=p["lockout_n"],
+                motion_band_q7=_round_int32("motion_band", p["motion_band"] * 128),
+                motion_count=p["motion_count"],
+                zero_band_q7=_round_int32("zero_band", p["zero_band"] * 128),
+                zero_rate_q7=_round_int32("zero_rate", p["zero_rate"] * 128))
+
+
+# ---- fixed-point arithmetic (csrc/sig_types.h, sig_chain_math.h) ----------
+def sat32(v):
+    return INT32_MIN if v < INT32_MIN else INT32_MAX if v > INT32_MAX else v
+
+
+def mul_q30_u(a, b):
+    """floor((a*b + 2^29) / 2^30) truncated to 32 bits (sig_mul_q30_u32)."""
+    return ((a * b + (1 << 29)) >> 30) & 0xFFFFFFFF
+
+
+def mul_q30_gain(a, k):
+    """sign(a) * round-half-up(|a| * k / 2^30) (sig_mul_q30_gain)."""
+    r = mul_q30_u(abs(a), k)
+    return r if a >= 0 else (INT32_MIN if r >= 1 << 31 else -r)
+
+
+def code_of(x):
+    """A float sample as the fixed form's int32 code (nearest, ties to even)."""
+    if not math.isfinite(x):
+        raise NonFiniteError(f"non-finite sample {x!r}: the fixed form takes ADC codes")
+    return sat32(int(round(x)))
+
+
+def clamp_code(x):
+    return max(-CODE_MAX, min(CODE_MAX, x))
+
+
+# ---- stage 1: limit filter -------------------------------------------------
+class LimitFilter:
+    """|x - Dc| > A0 -> replaced by Dc.  lockout_n > 0: the lockout_n-th
+    successive rejection on one side is accepted and re-seeds Dc."""
+
+    def __init__(self, a0, lockout_n=0, fixed=False):
+        _finite("a0", a0)
+        _check(a0 > 0, "a0", a0, "must be > 0")
+        _check(0 <= lockout_n <= 255 and int(lockout_n) == lockout_n, "lockout_n", lockout_n,
+               "must be an integer in 0..255")
+        self.fixed = bool(fixed)
+        self.a0 = _round_int32("a0", a0) if self.fixed else float(a0)
+        _check(self.a0 > 0, "a0", a0, "rounds to 0 codes in fixed point")
+        self.lockout_n = int(lockout_n)
+        self.reset()
+
+    def reset(self):
+        self.Dc, self.run, self.side, self.seeded, self.status = 0, 0, 0, False, OK
+
+    def set_ref(self, dc):
+        self.Dc, self.seeded = dc, True
+
+    def _step(self, x):
+        """One sample in the stage's own numbers; returns (out, status)."""
+        if not self.fixed and not math.isfinite(x):
+            if not self.seeded:
+                return None, ERR_NONFINITE
+            return self.Dc, WARN_REJECTED
+        if not self.seeded:
+            self.Dc, self.seeded, self.run, self.side = x, True, 0, 0
+            return x, OK
+        d = sat32(x - self.Dc) if self.fixed else x - self.Dc
+        if d > self.a0 or d < -self.a0:
+            side = 1 if d > 0 else -1
+            if side == self.side:
+                self.run = min(self.run + 1, 255)
+            else:
+                self.side, self.run = side, 1
+            if self.lockout_n and self.run >= self.lockout_n:
+                self.Dc, self.run, self.side = x, 0, 0
+                return x, LIMIT_RESEEDED
+            return self.Dc, WARN_REJECTED
+        self.run, self.side, self.Dc = 0, 0, x
+        return x, OK
+
+    def step(self, x):
+        out, self.status = self._step(code_of(x) if self.fixed else float(x))
+        return float("nan") if out is None else float(out)
+
+    def process(self, x):
+        return np.array([self.step(v) for v in np.asarray(x, dtype=float)])
+
+
+# ---- stage 2: anti-pulse filter --------------------------------------------
+class AntiPulse:
+    """Mean of the last N samples without one max and one min.  Filling:
+    1 sample -> itself, 2 -> their mean, k >= 3 -> trimmed mean of the k.
+    Fixed: codes clamped to +-CODE_MAX, round-half-up((sum-max-min)/(k-2))."""
+
+    def __init__(self, window=12, fixed=False):
+        _check(int(window) == window and 3 <= window <= WINDOW_MAX, "window", window,
+               f"must be an integer in 3..{WINDOW_MAX}")
+        self.n = int(window)
+        self.fixed = bool(fixed)
+        self.reset()
+
+    def reset(self):
+        self.buf, self.count, self.head, self.status = [0] * self.n, 0, 0, OK
+
+    def _step(self, x):
+        st = OK
+        if self.fixed and abs(x) > CODE_MAX:
+            x, st = clamp_code(x), WARN_CLAMPED
+        self.buf[self.head] = x
+        self.head = (self.head + 1) % self.n
+        self.count = min(self.count + 1, self.n)
+        held = self.buf[:self.count]
+        total = held[0]
+        for v in held[1:]:
+            total += v
+        mx, mn = max(held), min(held)
+        if self.count >= 3:
+            total, d = total - mx - mn, self.count - 2
+        else:
+            d = self.count
+        if self.fixed:
+            return (total + d // 2) // d, st
+        if d == 1:
+            return total, st
+        return (total * 0.5 if self.count == 2 else total / d), st
+
+    def step(self, x):
+        if self.fixed:
+            x = code_of(x)
+        elif not math.isfinite(x):
+            raise NonFiniteError(f"non-finite sample {x!r} (the anti-pulse stage alone takes finite samples)")
+        out, self.status = self._step(x if self.fixed else float(x))
+        return float(out)
+
+    def process(self, x):
+        return np.array([self.step(v) for v in np.asarray(x, dtype=float)])
+
+
+# ---- stage 3: scalar Kalman filter -----------------------------------------
+class Kalman1:
+    """A = 1, H = 1: P- = P + Q; K = P-/(P- + R); x += K (z - x); P = (1-K) P-.
+    Fixed: runs on P/R with y = 1/(1 + K + q) by two Newton steps (see
+    csrc/sig_kalman1.h); samples are codes, x is Q24.7."""
+
+    def __init__(self, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False, fixed=False):
+        for name, v in (("Q", Q), ("R", R), ("x0", x0), ("P0", P0)):
+            _finite(name, v)
+        _check(Q >= 0, "Q", Q, "must be >= 0")
+        _check(R > 0, "R", R, "must be > 0")
+        _check(P0 >= 0, "P0", P0, "must be >= 0")
+        self.fixed, self.seed_first = bool(fixed), bool(seed_first)
+        self.Q, self.R, self.P0, self.x0 = float(Q), float(R), float(P0), float(x0)
+        if self.fixed:
+            self.q, self.p0, self.x0_q7 = kalman_fixed_params(Q, R, P0, x0)
+            self.y1 = (1 << 46) // (65536 + self.p0 + ((self.q + 8192) >> 14))
+        self.reset()
+
+    def reset(self):
+        self.seeded, self.status = False, OK
+        if self.fixed:
+            self.xq, self.innov_q, self.y, self.phase = self.x0_q7, 0, Q30, 0
+        else:
+            self._x, self._P, self._K, self._innov = self.x0, self.P0, 0.0, 0.0
+
+    def restart(self):
+        """P back to P0, x kept (motion-aware settling)."""
+        if self.fixed:
+            self.phase = 0
+        else:
+            self._P = self.P0
+
+    @staticmethod
+    def _newton(y, d):
+        t = mul_q30_u(d, y)
+        if t >= 1 << 31:
+            return y >> 1
+        return mul_q30_u(y, (1 << 31) - t)
+
+    def _step(self, z):
+        if not self.seeded:
+            self.seeded = True
+            if self.seed_first:
+                if self.fixed:
+                    self.xq = z
+                else:
+                    self._x = z
+        if not self.fixed:
+            pm = self._P + self.Q
+            self._K = pm / (pm + self.R)
+            self._innov = z - self._x
+            self._x = self._x + self._K * self._innov
+            self._P = (1.0 - self._K) * pm
+            return self._x
+        if self.phase == 0:
+            self.y, self.phase = self.y1, 1
+        elif self.phase != 3:
+            d = Q30 + (Q30 - self.y) + self.q
+            if self.phase == 1:
+                half = d >> 1
+                yn = 0x60000000 - half if half < 0x50000000 else 0x10000000
+            else:
+                yn = self.y
+            yn = self._newton(self._newton(yn, d), d)
+            yn = min(max(yn, 1), Q30)
+            self.phase = 3 if (self.phase == 2 and yn == self.y) else 2
+            self.y = yn
+        self.innov_q = sat32(z - self.xq)
+        self.xq = sat32(self.xq + mul_q30_gain(self.innov_q, Q30 - self.y))
+        return self.xq
+
+    def step(self, z):
+        if self.fixed:
+            out = self._step(clamp_code(code_of(z)) * 128) / 128
+        else:
+            if not math.isfinite(z):
+                raise NonFiniteError(f"non-finite sample {z!r} (the Kalman stage alone takes finite samples)")
+            out = self._step(float(z))
+        return float(out)
+
+    def process(self, z):
+        return np.array([self.step(v) for v in np.asarray(z, dtype=float)])
+
+    @property
+    def x(self):
+        return self.xq / 128 if self.fixed else self._x
+
+    @property
+    def K(self):
+        return (Q30 - self.y) / Q30 if self.fixed else self._K
+
+    @property
+    def P(self):
+        if not self.fixed:
+            return self._P
+        return self.p0 / 65536 * self.R if self.phase == 0 else self.K * self.R
+
+    @property
+    def innovation(self):
+        return self.innov_q / 128 if self.fixed else self._innov
+
+
+# ---- stage 4: stability detector -------------------------------------------
+class StabilityDetector:
+    """Stable when successive outputs differ by <= step for `count` samples."""
+
+    def __init__(self, step=0.01, count=1, fixed=False):
+        _finite("step", step)
+        _check(step >= 0, "step", step, "must be >= 0")
+        _check(int(count) == count and 1 <= count <= 255, "count", count, "must be an integer in 1..255")
+        self.fixed = bool(fixed)
+        self.step_value = _round_int32("step", step * 128) if self.fixed else float(step)
+        self.count = int(count)
+        self.reset()
+
+    def reset(self):
+        self.prev, self.run, self.has_prev, self.stable = 0, 0, False, False
+
+    def _step(self, x):
+        d = sat32(x - self.prev) if self.fixed else x - self.prev
+        if self.fixed:
+            within = min(abs(d), INT32_MAX) <= self.step_value
+        else:
+            within = d <= self.step_value and -d <= self.step_value
+        if self.has_prev and within:
+            self.run = min(self.run + 1, 255)
+        else:
+            self.run = 0
+        self.prev, self.has_prev = x, True
+        self.stable = self.run >= self.count
+        return self.stable
+
+    def step(self, x):
+        if self.fixed:
+            if not math.isfinite(x):
+                raise NonFiniteError(f"non-finite value {x!r}")
+            return self._step(sat32(int(round(x * 128))))
+        if not math.isfinite(x):
+            raise NonFiniteError(f"non-finite value {x!r} (the stability stage alone takes finite values)")
+        return self._step(float(x))
+
+    def process(self, x):
+        return np.array([self.step(v) for v in np.asarray(x, dtype=float)], dtype=bool)
+
+
+# ---- the chain ---------------------------------------------------------------
+class Chain:
+    """limit -> anti-pulse -> Kalman -> stability, with the lock-out fix,
+    motion-aware settling, tare and zero tracking (csrc/sig_chain.c)."""
+
+    def __init__(self, preset="recommended", fixed=False, units_per_kg=None, **overrides):
+        self.params = chain_params(preset, units_per_kg, **overrides)
+        self.fixed = bool(fixed)
+        p = self.params
+        if self.fixed:
+            self.fixed_params = f = chain_fixed_params(p)
+            self.limit = LimitFilter(f["a0"], f["lockout_n"], fixed=True)
+            self.motion_band, self.zero_band, self.zero_rate = (
+                f["motion_band_q7"], f["zero_band_q7"], f["zero_rate_q7"])
+        else:
+            self.limit = LimitFilter(p["A0"], p["lockout_n"])
+            self.motion_band, self.zero_band, self.zero_rate = (
+                p["motion_band"], p["zero_band"], p["zero_rate"])
+        self.ap = AntiPulse(p["window"], fixed=self.fixed)
+        self.kf = Kalman1(p["Q"], p["R"], p["x0"], p["P0"], p["seed_first"], fixed=self.fixed)
+        self.st = StabilityDetector(p["stable_step"], p["stable_count"], fixed=self.fixed)
+        self.motion_count = p["motion_count"]
+        self.reset()
+
+    def reset(self):
+        for stage in (self.limit, self.ap, self.kf, self.st):
+            stage.reset()
+        self.offset_raw, self.out_raw, self.motion_run = 0, 0, 0
+        self.tare_pending, self.stable, self.has_out, self.status = False, False, False, OK
+
+    def _kx(self):
+        return self.kf.xq if self.fixed else self.kf._x
+
+    def _step(self, x):
+        """One sample (code or float); returns (out in Q7 or float, stable, status)."""
+        ret = OK
+        if self.fixed and abs(x) > CODE_MAX:
+            x, ret = clamp_code(x), WARN_CLAMPED
+        y, st = self.limit._step(x)
+        if st < 0:
+            return None, False, st
+        ret |= st
+        if ret & LIMIT_RESEEDED:
+            self.ap.reset()
+            if self.motion_band > 0:
+                self.kf.restart()
+            self.motion_run = 0
+        m, _ = self.ap._step(y)
+        m_k = m * 128 if self.fixed else m
+        if self.motion_band > 0 and self.kf.seeded:
+            e = sat32(m_k - self._kx()) if self.fixed else m_k - self._kx()
+            if (min(abs(e), INT32_MAX) if self.fixed else abs(e)) > self.motion_band:
+                self.motion_run = min(self.motion_run + 1, 255)
+            else:
+                self.motion_run = 0
+            if self.motion_run >= self.motion_count:
+                self.ap.reset()
+                m, _ = self.ap._step(y)
+                m_k = m * 128 if self.fixed else m
+                self.kf.restart()
+                self.motion_run = 0
+                ret |= CHAIN_MOTION
+        self.limit.set_ref(m)
+        xk = self.kf._step(m_k)
+        stab = self.st._step(xk)
+        if stab:
+            if self.tare_pending:
+                self.offset_raw, self.tare_pending = xk, False
+                ret |= CHAIN_TARED
+            elif self.zero_band > 0:
+                dz = sat32(xk - self.offset_raw) if self.fixed else xk - self.offset_raw
+                if (min(abs(dz), INT32_MAX) if self.fixed else abs(dz)) <= self.zero_band:
+                    dz = max(-self.zero_rate, min(self.zero_rate, dz))
+                    self.offset_raw = sat32(self.offset_raw + dz) if self.fixed else self.offset_raw + dz
+        self.out_raw = sat32(xk - self.offset_raw) if self.fixed else xk - self.offset_raw
+        self.stable, self.has_out = stab, True
+        return self.out_raw, stab, ret
+
+    def step(self, x):
+        """One sample -> (filtered, stable).  The status bits are in .status."""
+        out, stab, self.status = self._step(code_of(x) if self.fixed else float(x))
+        if out is None:
+            return float("nan"), False
+        return (out / 128 if self.fixed else float(out)), bool(stab)
+
+    def process(self, x, flags=False):
+        """Array in -> (filtered, stable[, status int16 per sample])."""
+        x = np.asarray(x, dtype=float)
+        if self.fixed and not np.all(np.isfinite(x)):
+            i = int(np.flatnonzero(~np.isfinite(x))[0])
+            raise NonFiniteError(f"sample {i}: non-finite value {x[i]!r}: the fixed form takes ADC codes")
+        out = np.empty(x.size)
+        stable = np.zeros(x.size, dtype=bool)
+        status = np.zeros(x.size, dtype=np.int16)
+        for i, v in enumerate(x):
+            out[i], stable[i] = self.step(v)
+            status[i] = self.status
+        return (out, stable, status) if flags else (out, stable)
+
+    def tare(self):
+        """Offset := current Kalman output if stable, else at the next stable
+        sample.  Returns True when applied now."""
+        if self.has_out and self.stable:
+            self.offset_raw, self.out_raw, self.tare_pending = self._kx(), 0, False
+            return True
+        self.tare_pending = True
+        return False
+
+    def set_offset(self, offset):
+        _finite("offset", offset)
+        self.offset_raw = _round_int32("offset", offset * 128) if self.fixed else float(offset)
+        self.tare_pending = False
+
+    @property
+    def offset(self):
+        return self.offset_raw / 128 if self.fixed else self.offset_raw
+
+    @property
+    def x(self):
+        return self.kf.x
+
+    @property
+    def P(self):
+        return self.kf.P
+
+    @property
+    def K(self):
+        return self.kf.K
+
+    @property
+    def Dc(self):
+        return float(self.limit.Dc)
