@@ -70,13 +70,13 @@ def tidy_curve(temp, values, names, where="curve"):
         bad = np.flatnonzero(~np.isfinite(arr))
         if bad.size:
             raise NonFiniteError(f"{where}: data row {int(bad[0]) + 1}, column '{col}': "
-                                 f"non-finite value {arr[bad[0]]!r}")
+                                 f"non-finite value {float(arr[bad[0]])!r}")
     step = np.diff(temp)
     down = np.flatnonzero(step < 0)
     if down.size:
         i = int(down[0])
         raise InputFileError(
-            f"{where}: data row {i + 2}: temperature {temp[i + 1]!r} after {temp[i]!r}; the "
+            f"{where}: data row {i + 2}: temperature {float(temp[i + 1])!r} after {float(temp[i])!r}; the "
             f"temperature column must be increasing (repeats are averaged)")
     starts = np.concatenate([[0], np.flatnonzero(step > 0) + 1])
     counts = np.diff(np.concatenate([starts, [temp.size]]))
