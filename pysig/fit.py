@@ -9,7 +9,8 @@ at slightly different readings (the BMI270 recording: 3255 samples between
 12.98 and 13.30 °C), so distinct float values say nothing.  Temperatures are
 grouped instead (`temperature_groups`):
   1. sort them and split wherever two neighbours are more than `gap` apart
-     (default 0.1 °C);
+     (default 0.15 °C: above two steps of a 1/16 °C sensor, below the
+     0.188 °C bin spacing of the MPU-6000 table);
   2. cut any cluster wider than `max_span` (default 5 °C: a ramp) into equal
      pieces no wider than that;
   3. a piece counts as a distinct temperature only if it holds at least
@@ -28,7 +29,7 @@ from .errors import InsufficientDataError, NonFiniteError, RangeError
 from .model import TcompModel
 
 MAX_FIT_ORDER = 6
-GAP_C = 0.1
+GAP_C = 0.15
 MAX_SPAN_C = 5.0
 MIN_SHARE = 0.05
 
