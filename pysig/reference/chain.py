@@ -52,14 +52,17 @@ PRESETS = {
     # The default everywhere.  Tuned on the real HX711 step recording
     # (../shared/data/hx711_steps_10hz: ~1000 counts/lb, ~70 counts noise),
     # so its default scale is HX711 counts at 1000 counts per lb.  R is the
-    # variance of one reading (0.032 kg ~ 70 counts); Kalman starts from the
-    # first sample; the lock-out fix accepts a level after 3 rejections on
-    # one side; motion mode restarts window and P when the window mean leaves
-    # the estimate by more than 0.1 kg twice in a row; zero tracking within
-    # 0.05 kg of zero at 0.5 g per sample.
-    "recommended": dict(A0=1.0, window=12, Q=1e-8, R=1e-3, x0=0.0, P0=10.0, seed_first=True,
+    # variance of one reading (0.032 kg ~ 70 counts); Q/R = 1e-3 lets the
+    # estimate forget the last swing of a load change within ~3 s (the
+    # paper's 2e-6 remembers it for ~70 s); the Kalman filter starts from the
+    # first sample; the lock-out fix accepts a level after 3 rejections on one
+    # side; motion mode restarts window and P when the window mean leaves the
+    # estimate by more than 0.03 kg (~3 sigma of the mean) twice in a row;
+    # stable after 5 steps within 4 g; zero tracking within 0.05 kg of zero at
+    # 0.5 g per sample.
+    "recommended": dict(A0=1.0, window=12, Q=1e-6, R=1e-3, x0=0.0, P0=10.0, seed_first=True,
                         stable_step=0.004, stable_count=5, lockout_n=3,
-                        motion_band=0.1, motion_count=2, zero_band=0.05, zero_rate=0.0005,
+                        motion_band=0.03, motion_count=2, zero_band=0.05, zero_rate=0.0005,
                         units_per_kg=1000.0 * LB_PER_KG),
 }
 PARAM_NAMES = tuple(k for k in PRESETS["paper"] if k != "units_per_kg")
