@@ -76,6 +76,7 @@ class FitData:
     others: dict = field(default_factory=dict)   # other axes' references (cross_axis)
     mask: np.ndarray = None
     labels: dict = field(default_factory=dict)   # units/names for reports
+    ref_from_y: bool = False      # reference built from y itself (plateau levels)
 
     def __post_init__(self):
         self.y = np.asarray(self.y, dtype=float)
@@ -198,7 +199,17 @@ class Hysteresis(Family):
     param_name = "width"
 
     def unavailable(self, data):
-        return None if data.T is not None else "no temperature"
+        if data.T is None:
+            return "no temperature"
+        # both branches must be visited: the temperature (smoothed by a play
+        # operator of 5 % of the span) must rise and fall by >= 10 % of the span
+        span = float(np.ptp(data.T))
+        if span <= 0:
+            return "constant temperature"
+        moves = np.diff(play_operator(data.T, 0.05 * span))
+        if moves[moves > 0].sum() < 0.1 * span or -moves[moves < 0].sum() < 0.1 * span:
+            return "the temperature only rises or only falls (one branch)"
+        return None
 
     def bounds(self, data):
         span = float(np.ptp(data.T)) or 1.0
@@ -242,6 +253,8 @@ class Nonlinearity(Family):
     def unavailable(self, data):
         if not data.has_ref:
             return "no varying reference"
+        if data.ref_from_y:
+            return "the reference is the reading's own plateau levels (no independent truth)"
         if np.unique(data.r[data.mask]).size < 4:
             return "fewer than 4 distinct reference values"
         return None
