@@ -135,6 +135,11 @@ def fit_tcomp(temp, columns, order=2, t0=25.0, temp_column="temp", groups=None, 
         c = np.array(pf.coef, dtype=float)
         c[0] -= ft0
         qa = quant.quantize_axis(c, what=f"{what} column '{name}'")
+        if qa.error_bound_lsb > quant.MAX_ERROR_LSB:
+            raise RangeError(
+                f"{what} column '{name}': the fixed-point correction could be off by up to "
+                f"{qa.error_bound_lsb:.2f} LSB (> {quant.MAX_ERROR_LSB}): the drift is too steep for "
+                f"a Q15 temperature (swing {float(np.sum(np.abs(c[1:]))):.0f} LSB over the range)")
         coef.append(c)
         f_t0.append(ft0)
         q.append(qa.q)

@@ -26,6 +26,7 @@ from .errors import RangeError
 INT16_MAX = (1 << 15) - 1
 INT32_MAX = (1 << 31) - 1
 MAX_Q = 30
+MAX_ERROR_LSB = 0.5     # pysig.fit refuses a model whose fixed-point bound exceeds this
 T_PER_DEGC = 100
 
 
