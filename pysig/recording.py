@@ -28,7 +28,7 @@ import numpy as np
 from scipy.ndimage import median_filter
 
 from .errors import InputFileError, InsufficientDataError
-from .io import check_time_column, read_csv
+from .io import atomic_output, check_time_column, read_csv
 from .lsq import fit_poly
 from .weighing import assign_nominal, calibrate, find_plateaus, glitch_indices, settle_index
 
@@ -41,8 +41,11 @@ CONFIGS = ("raw", "paper_chain", "kalman", "recommended")
 SETTLE_BAND_LB = 0.05
 MISSED_BAND_LB = 1.0
 GLITCH_BAND_LB = 0.05
+END_GUARD = 5              # samples: plateau ends are found to within half the 1-s steadiness window
 GLITCH_WINDOW = 24          # samples after a glitch in which its effect is looked for
-ZERO_WARMUP_S = 2.0
+ZERO_WARMUP_S = 10.0        # no-load channels: skip this much of the still segment (recovery after the
+                            # rig was touched) ...
+ZERO_TAIL_S = 3.0           # ... and this much before its end
 
 METRICS = {
     "glitches_passed": "read glitches (samples > 50 noise sigma from the 5-sample running median) after "
@@ -54,15 +57,15 @@ METRICS = {
                        "too slow to follow",
     "settle_s_max": f"largest time over the 8 steps from the end of the previous plateau until the output "
                     f"stays within +-{SETTLE_BAND_LB} lb of the new plateau's level (median of its raw "
-                    "samples) to the plateau's end, at least 1 s before that end; null when some step "
-                    "never settles.  The hand and the swing take motion_s of it (end of the previous "
+                    "samples) to the plateau's end (less 0.5 s: the plateau finder's resolution), at "
+                    "least 1 s before that end; null when some step never settles.  The hand and the swing take motion_s of it (end of the previous "
                     "plateau to the start of this one)",
     "plateau_err_lb_max": "largest |median of the output over the second half of a plateau - nominal "
                           "level| (glitch samples excluded)",
     "plateau_noise_lb": "largest standard deviation of the output over the second half of a plateau "
                         "(glitch samples excluded: they are counted by glitches_passed)",
-    "zero_noise_lb": "no-load channels, longest still segment after a warm-up of "
-                     f"{ZERO_WARMUP_S} s, glitch samples excluded: standard deviation of the output "
+    "zero_noise_lb": "no-load channels, longest still segment without its first "
+                     f"{ZERO_WARMUP_S} s and last {ZERO_TAIL_S} s, glitch samples excluded: standard deviation of the output "
                      "about its least-squares line, in lb of lc1's calibration",
     "zero_drift_lb": "change of that least-squares line over the segment (end minus start), lb",
 }
@@ -163,8 +166,9 @@ def analyse_loaded(t, counts, configs=CONFIGS, backend=None):
             noise.append(float(np.std(out[half])))
             if k > 0:
                 start = plateaus[k - 1].stop
-                idx = settle_index(out, levels[k], SETTLE_BAND_LB, start, p.stop)
-                if idx is not None and p.stop - idx < RATE_HZ:
+                end = p.stop - END_GUARD
+                idx = settle_index(out, levels[k], SETTLE_BAND_LB, start, end)
+                if idx is not None and end - idx < RATE_HZ:
                     idx = None
                 settle.append(None if idx is None else (idx - start) / RATE_HZ)
                 motion.append((p.start - start) / RATE_HZ)
@@ -192,7 +196,7 @@ def analyse_zero(t, counts, lb_per_count, configs=CONFIGS, backend=None):
     first still segment (the zero set at power-up).  They are not still all
     the time (the rig is touched at the start and near the end), so noise and
     drift are measured on the longest still segment that find_plateaus
-    finds, after ZERO_WARMUP_S of it."""
+    finds, without its first ZERO_WARMUP_S and last ZERO_TAIL_S."""
     t = np.asarray(t, dtype=float)
     counts = np.asarray(counts, dtype=float)
     glitches = glitch_indices(counts)
@@ -202,7 +206,7 @@ def analyse_zero(t, counts, lb_per_count, configs=CONFIGS, backend=None):
     seg = max(still, key=lambda p: p.stop - p.start)
     lb = (counts - still[0].level) * lb_per_count
     clean_kg = deglitched(lb, glitches) * KG_PER_LB
-    idx = np.arange(seg.start + int(ZERO_WARMUP_S * RATE_HZ), seg.stop)
+    idx = np.arange(seg.start + int(ZERO_WARMUP_S * RATE_HZ), seg.stop - int(ZERO_TAIL_S * RATE_HZ))
     idx = idx[~np.isin(idx, glitches)]
     outputs, rows = {}, {}
     for config in configs:
@@ -259,5 +263,8 @@ def plot_channel(path, t, result, title, configs=CONFIGS, nominal=True):
     axs.set_yticks([i + 0.4 for i in range(len(rows))], [f"{c} stable" for c in rows], fontsize=7)
     axs.set_xlabel("t (s)")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    try:
+        with atomic_output(path, "wb") as fh:
+            fig.savefig(fh, format="png", dpi=110)
+    finally:
+        plt.close(fig)
