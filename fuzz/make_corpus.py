@@ -99,10 +99,31 @@ def seeds_tcomp():
           + f32(3.4e38, 3.4e38, 3.4e38) + f32(1.0, 3.4e38, -3.4e38, 3.4e38))
 
 
+def seeds_chain():
+    # float, steered: mode 1, steer, scale u16, window, stable_count, lockout, motion, zero, seed_first, then ops
+    ramp = b"".join(bytes([2]) + struct.pack("<h", v) for v in range(-3000, 3000, 250))
+    write("chain", "seed-f-paper-ramp", bytes([1, 1]) + struct.pack("<H", 63) + bytes([9, 0, 0, 0, 0, 0]) + ramp)
+    specials = b"".join(bytes([3]) + f32(v) for v in F_SPECIAL)
+    write("chain", "seed-f-specials", bytes([1, 3]) + struct.pack("<H", 640) + bytes([9, 1, 3, 1, 1, 1])
+          + specials + bytes([0xF0, 0xF1]) + f32(1.5) + bytes([0xF2, 0xF3]) + specials)
+    write("chain", "seed-f-raw-params", bytes([1, 0]) + f32(2.0) + bytes([12]) + f32(1e-7, 0.05, 10.0, 1.0)
+          + bytes([0]) + f32(0.01) + bytes([1, 0]) + f32(0.0) + bytes([1]) + f32(0.0, 0.0) + ramp)
+    # fixed, steered: mode 0, steer, a0 u16, window, q, p0, x0 (edgy), seed_first, step, count, lockout,
+    # motion band u16 + on/off, motion count, zero on/off (+ band u16), then ops
+    rails = b"".join(bytes([1]) + edgy(v) for v in [I32_MIN, I32_MAX, 0, 16777215, -16777216, 5, -5, 1 << 30])
+    steps = b"".join(bytes([0]) + struct.pack("<h", v) for v in [0, 100, 100, 100, 5000, 5000, 5000, -32768])
+    write("chain", "seed-q-rails", bytes([0, 0x31]) + struct.pack("<H", 16) + bytes([9]) + i32(1 << 20, 10 << 16)
+          + edgy(0) + bytes([1]) + struct.pack("<H", 64) + bytes([1, 2]) + struct.pack("<H", 100) + bytes([1, 2, 1])
+          + struct.pack("<H", 50) + rails + steps + bytes([0xF0, 0xF1]) + edgy(I32_MIN) + bytes([0xF3]) + rails)
+    write("chain", "seed-q-raw-params", bytes([0, 0]) + edgy(1000) + bytes([12]) + i32(107, 13107200) + edgy(128)
+          + bytes([0]) + edgy(128) + bytes([1, 0]) + edgy(0) + bytes([1]) + edgy(0) + edgy(0) + steps)
+
+
 if __name__ == "__main__":
     seeds_types()
     seeds_pwl()
     seeds_image()
     seeds_tcomp()
+    seeds_chain()
     for d in sorted(CORPUS.iterdir()):
         print(f"{d.name}: {len(list(d.iterdir()))} seeds")
