@@ -1,0 +1,264 @@
+"""The weighing chain: the C core (through Cython) against the pure-Python
+spec.  Fixed point: equal bit for bit.  Float: equal within 1e-9 relative
+(same operations in the same order; in practice the results are identical).
+State is carried across process() calls split at random points."""
+import math
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings, strategies as st
+
+from pysig import chain as C
+from pysig.errors import NonFiniteError, RangeError
+from pysig.reference import chain as R
+
+RTOL = 1e-9
+SETTINGS = settings(max_examples=120, deadline=None)
+
+
+@st.composite
+def signals(draw, allow_nonfinite=False, extreme=False):
+    """A load-cell-like signal: levels with steps, Gaussian noise, impulses,
+    optionally NaN/inf and values at the int32 rails; plus split points."""
+    n = draw(st.integers(1, 300))
+    seed = draw(st.integers(0, 2**32 - 1))
+    rng = np.random.default_rng(seed)
+    level = draw(st.floats(-1e6, 1e6))
+    noise = draw(st.sampled_from([0.0, 1.0, 70.0, 3000.0]))
+    x = np.full(n, level) + rng.normal(0, noise, n) if noise else np.full(n, level)
+    for _ in range(draw(st.integers(0, 3))):                     # load steps
+        i = int(rng.integers(0, n))
+        x[i:] += draw(st.sampled_from([50.0, 500.0, 5000.0, -20000.0, 1e6]))
+    for _ in range(draw(st.integers(0, 4))):                     # impulses
+        x[int(rng.integers(0, n))] = draw(st.sampled_from([-8388608.0, 8388607.0, -4.2e6, level + 1e5]))
+    if extreme:
+        for _ in range(draw(st.integers(0, 3))):
+            x[int(rng.integers(0, n))] = draw(st.sampled_from([2.0**31 - 1, -(2.0**31), 1e12, -3e7]))
+    if allow_nonfinite:
+        for _ in range(draw(st.integers(0, 4))):
+            x[int(rng.integers(0, n))] = draw(st.sampled_from([math.nan, math.inf, -math.inf]))
+    x = np.round(x) if draw(st.booleans()) else x
+    cuts = sorted(draw(st.lists(st.integers(0, n), max_size=4)))
+    return x, cuts
+
+
+@st.composite
+def chain_kwargs(draw):
+    preset = draw(st.sampled_from(["paper", "recommended"]))
+    kw = dict(preset=preset, units_per_kg=draw(st.sampled_from([1.0, 2204.6, 64500.0])))
+    if draw(st.booleans()):
+        kw.update(window=draw(st.integers(3, 32)), lockout_n=draw(st.integers(0, 6)),
+                  motion_band=draw(st.sampled_from([0.0, 0.01, 0.03, 0.5])),
+                  motion_count=draw(st.integers(1, 3)),
+                  stable_count=draw(st.integers(1, 6)),
+                  stable_step=draw(st.sampled_from([0.0, 0.001, 0.01, 1.0])),
+                  zero_band=draw(st.sampled_from([0.0, 0.05, 10.0])),
+                  zero_rate=draw(st.sampled_from([0.0, 0.0005, 0.1])),
+                  A0=draw(st.sampled_from([0.01, 1.0, 2.0, 100.0])),
+                  Q=draw(st.sampled_from([0.0, 1e-8, 1e-7, 1e-6])),
+                  seed_first=draw(st.booleans()))
+    return kw
+
+
+def both(name, **kw):
+    """C and reference objects; a parameter set that has no fixed-point form
+    (for example A0 below one code) must be refused by both alike."""
+    try:
+        r = getattr(R, name)(**kw)
+    except RangeError as exc:
+        with pytest.raises(RangeError, match=str(exc).split(":")[0].split("=")[0]):
+            getattr(C, name)(**kw)
+        assume(False)
+    return getattr(C, name)(**kw), r
+
+
+def split(x, cuts):
+    edges = [0] + list(cuts) + [len(x)]
+    return [x[a:b] for a, b in zip(edges[:-1], edges[1:])]
+
+
+def run_split(obj, x, cuts, **kw):
+    parts = [obj.process(p, **kw) for p in split(x, cuts)]
+    if isinstance(parts[0], tuple):
+        return tuple(np.concatenate([p[i] for p in parts]) for i in range(len(parts[0])))
+    return np.concatenate(parts)
+
+
+# ---- the chain ----------------------------------------------------------------
+
+@SETTINGS
+@given(signals(extreme=True), chain_kwargs())
+def test_fixed_chain_equals_reference_bit_for_bit(sig, kw):
+    x, cuts = sig
+    c, r = both("Chain", fixed=True, **kw)
+    c_out = run_split(c, x, cuts, flags=True)
+    r_out = r.process(x, flags=True)
+    for a, b in zip(c_out, r_out):
+        np.testing.assert_array_equal(a, b)
+
+
+@SETTINGS
+@given(signals(allow_nonfinite=True), chain_kwargs())
+def test_float_chain_equals_reference_within_tolerance(sig, kw):
+    x, cuts = sig
+    c_out, c_stable, c_status = run_split(C.Chain(**kw), x, cuts, flags=True)
+    r_out, r_stable, r_status = R.Chain(**kw).process(x, flags=True)
+    np.testing.assert_allclose(c_out, r_out, rtol=RTOL, atol=RTOL * (1 + np.nanmax(np.abs(r_out), initial=0)))
+    np.testing.assert_array_equal(c_stable, r_stable)
+    np.testing.assert_array_equal(c_status, r_status)
+
+
+@SETTINGS
+@given(signals(allow_nonfinite=True), chain_kwargs(), st.booleans())
+def test_step_equals_process(sig, kw, fixed):
+    x, _ = sig
+    if fixed:
+        x = np.nan_to_num(x, nan=0.0, posinf=1e9, neginf=-1e9)
+    a, _ = both("Chain", fixed=fixed, **kw)
+    stepped = [a.step(v) for v in x]
+    out, stable = C.Chain(fixed=fixed, **kw).process(x)
+    np.testing.assert_array_equal(np.array([s[0] for s in stepped]), out)
+    np.testing.assert_array_equal(np.array([s[1] for s in stepped]), stable)
+
+
+@SETTINGS
+@given(signals(allow_nonfinite=True), chain_kwargs())
+def test_nonfinite_never_enters_the_state(sig, kw):
+    x, _ = sig
+    out, stable, status = C.Chain(**kw).process(x, flags=True)
+    finite = np.isfinite(x)
+    if not finite.any():
+        assert np.isnan(out).all() and not stable.any() and (status == R.ERR_NONFINITE).all()
+        return
+    first = int(np.argmax(finite))
+    assert np.isnan(out[:first]).all() and (status[:first] == R.ERR_NONFINITE).all()
+    assert np.isfinite(out[first:]).all()
+    assert ((status[first:][~finite[first:]] & R.WARN_REJECTED) != 0).all()
+    # without the lock-out counter (which a non-finite sample leaves alone),
+    # a non-finite sample acts exactly like a sample equal to the reference Dc
+    kw = dict(kw, lockout_n=0)
+    out = C.Chain(**kw).process(x)[0]
+    ref = C.Chain(**kw)
+    ref.process(x[:first])
+    y = []
+    for v in x[first:]:
+        if not math.isfinite(v):
+            v = ref.Dc
+        y.append(ref.step(v)[0])
+    np.testing.assert_array_equal(np.array(y), out[first:])
+
+
+def test_fixed_rejects_nonfinite_with_index():
+    with pytest.raises(NonFiniteError, match="sample 2"):
+        C.Chain(fixed=True).process([1.0, 2.0, math.nan])
+    with pytest.raises(NonFiniteError):
+        R.Chain(fixed=True).process([1.0, 2.0, math.inf])
+
+
+def test_fixed_clamps_codes_beyond_25_bits():
+    out, _, status = C.Chain(fixed=True, preset="paper", units_per_kg=1000.0, seed_first=True).process(
+        [5e7, 5e7, -5e7], flags=True)
+    assert (status & R.WARN_CLAMPED).all()
+    assert out[0] == R.CODE_MAX
+
+
+# ---- stages alone -----------------------------------------------------------------
+
+STAGES = [
+    ("LimitFilter", dict(a0=1000.0, lockout_n=3)),
+    ("LimitFilter", dict(a0=1.5, lockout_n=0)),
+    ("AntiPulse", dict(window=12)),
+    ("AntiPulse", dict(window=3)),
+    ("AntiPulse", dict(window=32)),
+    ("Kalman1", dict()),
+    ("Kalman1", dict(Q=1e-3, R=4900.0, x0=0.0, P0=1e6, seed_first=True)),
+    ("Kalman1", dict(Q=1.0, R=1.0, x0=5.0, P0=0.0)),
+    ("StabilityDetector", dict(step=10.0, count=3)),
+]
+
+
+@pytest.mark.parametrize("name,kw", STAGES, ids=[f"{n}-{i}" for i, (n, _) in enumerate(STAGES)])
+@settings(max_examples=60, deadline=None)
+@given(sig=signals(extreme=True))
+def test_stage_fixed_bit_exact_and_float_close(name, kw, sig):
+    x, cuts = sig
+    c_fixed = run_split(getattr(C, name)(fixed=True, **kw), x, cuts)
+    r_fixed = getattr(R, name)(fixed=True, **kw).process(x)
+    np.testing.assert_array_equal(c_fixed, r_fixed)
+    c_float = run_split(getattr(C, name)(**kw), x, cuts)
+    r_float = getattr(R, name)(**kw).process(x)
+    if c_float.dtype == bool:
+        np.testing.assert_array_equal(c_float, r_float)
+    else:
+        np.testing.assert_allclose(c_float, r_float, rtol=RTOL, atol=RTOL * (1 + np.abs(r_float).max()))
+
+
+def test_antipulse_fill_rule_and_exact_rounded_mean():
+    a = C.AntiPulse(window=5, fixed=True)
+    # 1 -> itself, 2 -> mean (half up), 3.. -> trimmed mean of what is held
+    assert list(a.process([10, 11, 100, -50, 7])) == [10, 11, 11, 11, 9]
+    f = C.AntiPulse(window=5)
+    np.testing.assert_allclose(f.process([10, 11, 100, -50, 7]), [10, 10.5, 11, 10.5, 28 / 3])
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.integers(-(2**29), 2**29), st.integers(1, 30))
+def test_reciprocal_division_is_exact(s, d):
+    """The fixed anti-pulse mean never divides: a window of d+2 equal-spread
+    values whose trimmed sum is s gives round-half-up(s / d) exactly."""
+    vals = [s // d] * d
+    vals[0] += s - sum(vals)
+    if abs(vals[0]) > R.CODE_MAX or abs(vals[-1]) > R.CODE_MAX:
+        return
+    lo, hi = min(vals), max(vals)
+    a = C.AntiPulse(window=d + 2, fixed=True)
+    out = a.process([lo] + vals + [hi])
+    assert out[-1] == (s + d // 2) // d
+
+
+def test_kalman_paper_gain_behaves_like_the_textbook():
+    k = C.Kalman1()                                  # paper: Q 1e-7, R 0.05, P0 10
+    kq = C.Kalman1(fixed=True)
+    k.process(np.full(5000, 30.0))
+    kq.process(np.full(5000, 30.0))
+    assert k.K == pytest.approx(math.sqrt(1e-7 / 0.05), rel=0.05)
+    assert kq.K == pytest.approx(k.K, rel=1e-3)     # division-free Q30 gain tracks the float one
+    # the fixed state stops within its dead band: |K * e| < half an LSB of Q24.7
+    assert kq.x == pytest.approx(30.0, abs=0.5 / (128 * kq.K) + 1 / 128)
+
+
+# ---- parameters --------------------------------------------------------------------
+
+@pytest.mark.parametrize("kw,name", [
+    (dict(window=33), "window"), (dict(window=2), "window"), (dict(R=-1.0), "R"),
+    (dict(R=0.0), "R"), (dict(Q=-1e-9), "Q"), (dict(A0=0.0), "A0"), (dict(A0=math.nan), "A0"),
+    (dict(stable_count=0), "stable_count"), (dict(lockout_n=256), "lockout_n"),
+    (dict(motion_band=-1.0), "motion_band"), (dict(units_per_kg=0.0), "units_per_kg"),
+    (dict(P0=-1.0), "P0"), (dict(zero_rate=math.inf), "zero_rate"), (dict(bogus=1), "bogus"),
+])
+@pytest.mark.parametrize("fixed", [False, True])
+def test_bad_parameters_raise_named_errors(kw, name, fixed):
+    with pytest.raises(RangeError, match=name):
+        C.Chain(fixed=fixed, **kw)
+    with pytest.raises(RangeError, match=name):
+        R.Chain(fixed=fixed, **kw)
+
+
+def test_fixed_only_limits_are_named():
+    with pytest.raises(RangeError, match="Q"):
+        C.Chain(fixed=True, Q=1.0, R=0.5)             # Q/R > 1 has no Q30 form
+    with pytest.raises(RangeError, match="window"):
+        C.AntiPulse(window=40)
+    with pytest.raises(RangeError, match="R"):
+        C.Kalman1(R=-0.05)
+    with pytest.raises(RangeError, match="preset"):
+        C.Chain(preset="fast")
+
+
+def test_presets_paper_values():
+    p = C.chain_params("paper")
+    assert (p["Q"], p["R"], p["x0"], p["P0"], p["window"], p["stable_count"]) == (1e-7, 0.05, 1.0, 10.0, 12, 1)
+    assert p["lockout_n"] == 0 and p["motion_band"] == 0 and p["zero_band"] == 0
+    s = C.chain_params("paper", units_per_kg=1000.0)
+    assert s["Q"] == pytest.approx(0.1) and s["R"] == pytest.approx(5e4) and s["A0"] == 2000.0
+    assert C.Chain().params == C.chain_params("recommended")
