@@ -88,6 +88,33 @@ def tidy_curve(temp, values, names, where="curve"):
     return Curve(temp=temp[starts].copy(), values=sums / counts[:, None], names=names, notes=notes)
 
 
+def bin_by_temperature(temp, values, names, width, where="recording"):
+    """A drift curve from a time series: samples averaged into temperature
+    bins of `width` °C (as PX4's calibration script and the MatrixPilot
+    table do; otherwise slowly-crossed temperatures get more weight).  Each
+    bin's temperature is the mean temperature of its samples."""
+    temp = np.asarray(temp, dtype=float).ravel()
+    values = np.asarray(values, dtype=float)
+    if values.ndim == 1:
+        values = values[:, None]
+    if not (np.isfinite(width) and width > 0):
+        raise RangeError(f"{where}: bin width must be > 0 °C, got {width!r}")
+    for col, arr in [("temperature", temp)] + [(n, values[:, j]) for j, n in enumerate(names)]:
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            raise NonFiniteError(f"{where}: sample {int(bad[0])}, column '{col}': non-finite value")
+    if temp.size == 0:
+        raise InsufficientDataError(f"{where}: no samples")
+    key = np.floor(temp / width).astype(np.int64)
+    bins, inverse, counts = np.unique(key, return_inverse=True, return_counts=True)
+    t_mean = np.bincount(inverse, weights=temp) / counts
+    v_mean = np.column_stack([np.bincount(inverse, weights=values[:, j]) / counts
+                              for j in range(values.shape[1])])
+    note = (f"{where}: {temp.size} samples averaged into {bins.size} temperature bins of "
+            f"{width:g} °C ({counts.min()}..{counts.max()} samples per bin)")
+    return Curve(temp=t_mean, values=v_mean, names=tuple(names), notes=(note,))
+
+
 def load_curve(path, temp_column, value_columns):
     """Read a drift curve from CSV (pysig.io) and tidy it; errors name the file."""
     cols = read_csv(path, [temp_column, *value_columns])
@@ -196,9 +223,15 @@ def score_sizes(family, sizes, temp, y, n_blocks=DEFAULT_BLOCKS):
     return out
 
 
-def choose(scores):
-    """The score with the lowest blocked-CV RMS (ties: the smaller size)."""
-    return min(scores, key=lambda s: (s.cv_rms, s.size))
+CHOICE_TOLERANCE = 0.05
+
+
+def choose(scores, tolerance=CHOICE_TOLERANCE):
+    """The smallest size whose blocked-CV RMS is within `tolerance` (relative)
+    of the best one: a bigger model must earn its cost by more than noise
+    (the same rule as pysig.fit.select_order)."""
+    best = min(s.cv_rms for s in scores)
+    return min((s for s in scores if s.cv_rms <= best * (1.0 + tolerance)), key=lambda s: s.size)
 
 
 # ---- the paper's four-temperature calibration ----------------------------------

@@ -163,35 +163,50 @@ def hat_basis(temp, knots):
     return design
 
 
+#: weight of the smoothness rows that bridge data gaps (relative to a data row)
+BRIDGE_WEIGHT = 1e-3
+
+
 def _solve(temp, y, knots, bridge, what):
     design = hat_basis(temp, knots)
-    support = design.sum(axis=0)
-    empty = np.flatnonzero(support == 0.0)
     n = len(knots)
-    if empty.size and not bridge:
-        k = int(empty[0])
-        raise InsufficientDataError(
-            f"{what}: knot {k} at {knots[k]:.4g} °C has no data within one knot spacing "
-            f"({knots[1] - knots[0]:.4g} °C); use fewer knots")
-    rows = [design]
-    targets = [y]
-    if empty.size:
-        # Knots in a gap of the data (a held-out block in cross-validation)
-        # are tied to their neighbours by a zero second difference: the table
-        # is linear across the gap and the fitted knots are not disturbed
-        # (each added row has one free unknown of its own).
-        extra = np.zeros((empty.size, n))
-        for r, k in enumerate(empty):
-            c = min(max(int(k), 1), n - 2)
-            extra[r, c - 1:c + 2] = (1.0, -2.0, 1.0)
-        rows.append(extra)
-        targets.append(np.zeros(empty.size))
-    full = np.vstack(rows)
-    if np.linalg.matrix_rank(full) < n:
+    if np.linalg.matrix_rank(design) == n:
+        values, resid = fit_linear_model(design, y, what=what)
+        return values, float(np.sqrt(np.mean(resid ** 2)))
+    if not bridge:
+        # a knot touched only by rounding (a point sitting on its neighbour)
+        # has no data of its own either
+        empty = np.flatnonzero(design.sum(axis=0) <= 1e-9)
+        if empty.size:
+            k = int(empty[0])
+            raise InsufficientDataError(
+                f"{what}: knot {k} at {knots[k]:.4g} °C has no data within one knot spacing "
+                f"({knots[1] - knots[0]:.4g} °C); use fewer knots")
         raise InsufficientDataError(
             f"{what}: {n} knots are not determined by the {np.unique(temp).size} distinct "
             f"temperatures between them; use fewer knots")
-    values, _ = fit_linear_model(full, np.concatenate(targets), what=what)
+    # Knots the data does not determine (a held-out block in cross-validation)
+    # are tied to their neighbours by a zero second difference: the table is
+    # linear across the gap.  "Not determined": less than half a data point's
+    # weight on the knot (a gap, or only the tail of a point that sits on the
+    # neighbouring knot).  Each such row has an unknown of its own, so the
+    # determined knots keep their least-squares values.
+    weak = np.flatnonzero(design.sum(axis=0) < 0.5)
+    rows = np.zeros((weak.size, n))
+    for r, k in enumerate(weak):
+        c = min(max(int(k), 1), n - 2)
+        rows[r, c - 1:c + 2] = (1.0, -2.0, 1.0)
+    full = np.vstack([design, rows])
+    if np.linalg.matrix_rank(full) < n:
+        # still short (isolated points far apart): a faint smoothness prior
+        smooth = np.zeros((n - 2, n))
+        for r in range(n - 2):
+            smooth[r, r:r + 3] = (BRIDGE_WEIGHT, -2.0 * BRIDGE_WEIGHT, BRIDGE_WEIGHT)
+        full = np.vstack([full, smooth])
+    if np.linalg.matrix_rank(full) < n:
+        raise InsufficientDataError(f"{what}: fewer than 2 distinct temperatures to fit a table")
+    target = np.concatenate([y, np.zeros(full.shape[0] - y.size)])
+    values, _ = fit_linear_model(full, target, what=what)
     resid = y - design @ values
     return values, float(np.sqrt(np.mean(resid ** 2)))
 

@@ -1,0 +1,428 @@
+"""Error against cost of drift models (issue 10): polynomial orders 1-8 and
+piecewise-linear tables, side by side, on a real drift curve and on the
+project's simulated chamber.
+
+    python bench/model_pareto.py --json pareto.json --plot figs/
+
+For each dataset, axis, family and size:
+  cv_rms      blocked cross-validation RMS over temperature (pysig.model_select:
+              interior blocks of the temperature range held out in turn), in
+              the data's unit, of the float least-squares model;
+  fit_rms     in-sample RMS of the deployed fixed-point model as the C
+              computes it (sig_tcomp_delta_q / sig_pwl_eval_q16 via Cython),
+              temperature quantised to 0.01 °C;
+  data_bytes  bytes of one axis' model as stored (coefficients or table plus
+              its parameters);
+  text_bytes  .text bytes of the evaluation code from csrc (the call tree of
+              the entry point, runtime helpers such as __mspabi_mpyl_f5hw
+              counted separately in helper_bytes);
+  cycles      MSP430F5510 MCLK cycles per call, mspdebug 0.22 `sim` (classic
+              MSP430 timing), hardware-multiplier helpers on the simulated
+              16x16 MPY: mean over N_TEMPS temperatures spread over the range,
+              loop overhead removed (the same loop around a no-op function);
+  energy_uj   cycles / 8 MHz x 1.56 mA x 3.3 V.
+Every MCU result is read back from the simulator and compared with the host
+C bit for bit; a mismatch stops the bench.
+
+Datasets: the MPU-6000 gyro offset curve of ../shared/data (MatrixPilot,
+GPL: read from there, never bundled) and pysig.sim_chamber's default run
+(the seed paper's 0/25/50/70 °C steps) averaged into 0.25 °C bins."""
+from __future__ import annotations
+
+import argparse
+import json
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "bench" / "mcu"))
+
+import runner  # noqa: E402  (bench/mcu/runner.py)
+
+from pysig import quant  # noqa: E402
+from pysig._tcomp import TcompQ  # noqa: E402
+from pysig.io import atomic_output  # noqa: E402
+from pysig.lsq import fit_poly  # noqa: E402
+from pysig.model_select import (PAPER_ORDER, bin_by_temperature, choose, four_point_study,  # noqa: E402
+                                load_curve, score_sizes)
+from pysig.pwl import fit_pwl_q16  # noqa: E402
+from pysig.sim_chamber import ChamberParams, simulate  # noqa: E402
+
+HERE = Path(__file__).resolve().parent / "model_pareto"
+MPU_CSV = ROOT.parent / "shared" / "data" / "mpu6000_gyro_offset_vs_temp" / "mpu6000_sn102_gyro_offset.csv"
+
+POLY_ORDERS = tuple(range(1, 9))
+PWL_KNOTS = (2, 3, 4, 5, 6, 8, 9, 12, 17, 24, 33, 48, 65, 97, 129, 184)
+N_TEMPS = 16
+MCLK_HZ = 8e6
+SUPPLY_A = 1.56e-3
+SUPPLY_V = 3.3
+CHAMBER_BIN_C = 0.25
+N_BLOCKS = 8
+PAPER_CLAIM = ("Seed paper (4 chamber temperatures, its Tables 2-3):\n"
+               "order 2 is the best error/cost trade-off")
+
+
+def energy_uj(cycles):
+    return cycles / MCLK_HZ * SUPPLY_A * SUPPLY_V * 1e6
+
+
+# ---------------------------------------------------------------- datasets --
+def datasets(which):
+    out = {}
+    if "mpu6000" in which:
+        if not MPU_CSV.exists():
+            raise SystemExit(f"{MPU_CSV} not found: the real curve lives in ../shared/data "
+                             f"(GPL, not bundled); run from the workplace checkout or drop "
+                             f"--datasets mpu6000")
+        curve = load_curve(MPU_CSV, "temp_c", ["gyro_x", "gyro_y", "gyro_z"])
+        out["mpu6000"] = (curve, "64 raw LSB (~1/2099 °/s)")
+    if "chamber" in which:
+        sim = simulate(ChamberParams())
+        drift = np.column_stack([sim[a] - sim["ref_" + a] for a in "xyz"])
+        curve = bin_by_temperature(sim["temp"], drift, ["x", "y", "z"], CHAMBER_BIN_C,
+                                   where="sim_chamber default (0/25/50/70 °C steps)")
+        out["chamber"] = (curve, "LSB")
+    return out
+
+
+# ---------------------------------------------------------- deployed models --
+def poly_models(curve, order):
+    """Fixed-point sig_tcomp_q model of `order` for all axes (f(T) itself,
+    no reference folded in), fitted on the abscissa the C uses."""
+    t_lo, t_hi = (int(v) for v in quant.to_centi([curve.temp.min(), curve.temp.max()]))
+    sc = quant.choose_scaling(t_lo, t_hi)
+    axes = []
+    for name in curve.names:
+        fit = fit_poly(curve.temp, curve.axis(name), order, center=sc.center_c, scale=sc.scale_c,
+                       what=f"{name} order {order}")
+        axes.append(quant.quantize_axis(fit.coef, what=f"{name} order {order}"))
+    model = TcompQ.from_fields([a.coef for a in axes], [a.q for a in axes], sc.t_lo, sc.t_hi,
+                               sc.t_center, sc.t_center, sc.u_mul, sc.u_shift)
+    return {"scaling": sc, "axes": axes, "model": model}
+
+
+def poly_eval_host(pm, axis, temp_int):
+    d, _ = pm["model"].delta(axis, np.asarray(temp_int, dtype=np.int16))
+    return d, d / float(1 << pm["axes"][axis].q)
+
+
+def poly_data_bytes(order):
+    # per axis: q (u8) + (order+1) int32; model header: t_lo, t_hi, t_center,
+    # t0, u_mul (int16), u_shift, order (u8) = 12 bytes (sig_image payload)
+    return 1 + 4 * (order + 1) + 12
+
+
+def pwl_models(curve, n_knots):
+    return [fit_pwl_q16(curve.temp, curve.axis(a), n_knots, what=f"{a} table of {n_knots}")
+            for a in curve.names]
+
+
+# ------------------------------------------------------------------ MCU side --
+def _arr(values):
+    return "{" + ", ".join(str(int(v)) for v in values) + "}"
+
+
+def _case_dir(tag):
+    d = runner.BUILD_DIR / "model_pareto" / tag
+    d.mkdir(parents=True, exist_ok=True)
+    return d
+
+
+def mcu_temps(t_lo, t_hi):
+    return np.round(np.linspace(t_lo, t_hi, N_TEMPS)).astype(np.int16)
+
+
+_DIS_CACHE = {}
+
+
+def call_tree_bytes(img, entry):
+    """(csrc bytes, runtime-helper bytes) of the functions reachable from
+    `entry` by direct calls (MSP430 disassembly)."""
+    key = str(img.path)
+    if key not in _DIS_CACHE:
+        dis = subprocess.run([runner.tool("llvm-objdump-14", "llvm-objdump"), "-d", str(img.path)],
+                             capture_output=True, text=True, check=True).stdout
+        calls, cur = {}, None
+        for line in dis.splitlines():
+            m = re.match(r"^([0-9a-f]+) <(.+)>:$", line)
+            if m:
+                cur = m.group(2)
+                calls[cur] = set()
+                continue
+            m = re.search(r"\tcall\t#(\d+)", line)
+            if m and cur:
+                calls[cur].add(int(m.group(1)))
+        _DIS_CACHE[key] = calls
+    calls = _DIS_CACHE[key]
+    by_addr = {a: n for n, a in img.symbols.items() if n in img.sizes and img.sizes[n] > 0}
+    seen, todo = set(), [entry]
+    while todo:
+        f = todo.pop()
+        if f in seen:
+            continue
+        seen.add(f)
+        todo.extend(by_addr[a] for a in calls.get(f, ()) if a in by_addr)
+    helpers = {f for f in seen if f.startswith("__") or f in ("memcpy", "memset", "memmove")}
+    return (sum(img.sizes[f] for f in seen - helpers), sum(img.sizes[f] for f in helpers),
+            sorted(seen))
+
+
+def measure_case(tag, harness, source_files, header_text, entry):
+    """Build, run, read back: per-axis cycles, outputs, statuses."""
+    d = _case_dir(tag)
+    (d / "pareto_case.h").write_text(header_text)
+    img = runner.build_msp430(source_files, HERE / harness, include_dirs=[d], hwmult=True,
+                              name=f"pareto-{tag}")
+    regions = ["bench_start:bench_axis1", "bench_axis1:bench_axis2", "bench_axis2:bench_stop",
+               "bench_null_start:bench_null_stop"]
+    res = runner.measure(img, funcs=[entry], regions=regions,
+                         reads={"out": 3 * N_TEMPS * 4, "status": 3 * N_TEMPS * 2}, stack=False)
+    null = res["regions"][regions[3]]["cycles"]
+    cycles = [(res["regions"][r]["cycles"] - null) / N_TEMPS for r in regions[:3]]
+    out = np.frombuffer(res["reads"]["out"], "<i4").reshape(3, N_TEMPS)
+    status = np.frombuffer(res["reads"]["status"], "<i2").reshape(3, N_TEMPS)
+    text, helper, tree = call_tree_bytes(img, entry)
+    return {"cycles": cycles, "single_call_cycles": res["funcs"][entry]["cycles"],
+            "out": out, "status": status, "text_bytes": text, "helper_bytes": helper,
+            "call_tree": tree}
+
+
+def mcu_poly(tag, pm, order):
+    sc = pm["scaling"]
+    temps = mcu_temps(sc.t_lo, sc.t_hi)
+    coef = [c for a in pm["axes"] for c in a.coef]
+    h = (f"#define N_AXES 3\n#define ORDER {order}\n#define N_TEMPS {N_TEMPS}\n"
+         f"#define POLY_COEF {{{', '.join(f'INT32_C({c})' for c in coef)}}}\n"
+         f"#define POLY_Q {_arr([a.q for a in pm['axes']])}\n"
+         f"#define POLY_T_LO {sc.t_lo}\n#define POLY_T_HI {sc.t_hi}\n"
+         f"#define POLY_T_CENTER {sc.t_center}\n#define POLY_U_MUL {sc.u_mul}\n"
+         f"#define POLY_U_SHIFT {sc.u_shift}\n#define TEMPS {_arr(temps)}\n")
+    m = measure_case(tag, "harness_poly.c",
+                     [ROOT / "csrc" / "sig_tcomp.c", ROOT / "csrc" / "sig_poly.c",
+                      ROOT / "csrc" / "sig_image.c", ROOT / "csrc" / "sig_crc16.c"],
+                     h, "sig_tcomp_delta_q")
+    for a in range(3):
+        host, _ = poly_eval_host(pm, a, temps)
+        if not np.array_equal(host, m["out"][a]):
+            raise SystemExit(f"{tag}: MSP430 result differs from the host C on axis {a}: "
+                             f"{m['out'][a]} vs {host}")
+    return m
+
+
+def mcu_pwl(tag, tabs, n_knots):
+    temps = mcu_temps(min(t.t_lo for t in tabs), max(t.t_hi for t in tabs))
+    h = (f"#define N_AXES 3\n#define N_KNOTS {n_knots}\n#define N_TEMPS {N_TEMPS}\n"
+         f"#define PWL_TABLES {{{', '.join(_arr(t.table) for t in tabs)}}}\n"
+         f"#define PWL_RANGES {{{', '.join(_arr([t.t_lo, t.t_hi]) for t in tabs)}}}\n"
+         f"#define PWL_RECIPS {{{', '.join(f'UINT32_C({t.recip})' for t in tabs)}}}\n"
+         f"#define PWL_VFS {_arr([t.value_frac for t in tabs])}\n#define TEMPS {_arr(temps)}\n")
+    m = measure_case(tag, "harness_pwl.c", [ROOT / "csrc" / "sig_pwl.c"], h, "sig_pwl_eval_q16")
+    for a, t in enumerate(tabs):
+        host, hstat = t.eval_c(temps)
+        if not (np.array_equal(host, m["out"][a]) and np.array_equal(hstat, m["status"][a])):
+            raise SystemExit(f"{tag}: MSP430 result differs from the host C on axis {a}: "
+                             f"{m['out'][a]} vs {host}")
+    return m
+
+
+# ------------------------------------------------------------------- bench --
+def run_dataset(name, curve, unit, mcu=True, log=print):
+    rows = []
+    temp = curve.temp
+    cv = {}
+    for axis in curve.names:
+        y = curve.axis(axis)
+        for fam, sizes in (("poly", POLY_ORDERS), ("pwl", PWL_KNOTS)):
+            sizes = [s for s in sizes if fam == "poly" or s <= temp.size]
+            for s in score_sizes(fam, sizes, temp, y, n_blocks=N_BLOCKS):
+                cv[(fam, s.size, axis)] = s
+    for fam, sizes in (("poly", POLY_ORDERS), ("pwl", PWL_KNOTS)):
+        for size in sizes:
+            if fam == "pwl" and size > temp.size:
+                continue
+            t0 = time.time()
+            if fam == "poly":
+                pm = poly_models(curve, size)
+                fixed = [poly_eval_host(pm, a, quant.to_centi(temp))[1] for a in range(3)]
+                data_bytes = poly_data_bytes(size)
+                meas = mcu_poly(f"{name}-poly{size}", pm, size) if mcu else None
+            else:
+                tabs = pwl_models(curve, size)
+                fixed = [t(temp) for t in tabs]
+                data_bytes = tabs[0].data_bytes
+                meas = mcu_pwl(f"{name}-pwl{size}", tabs, size) if mcu else None
+            for a, axis in enumerate(curve.names):
+                s = cv[(fam, size, axis)]
+                fit_rms = float(np.sqrt(np.mean((curve.axis(axis) - fixed[a]) ** 2)))
+                row = {"dataset": name, "family": fam, "size": size, "axis": axis,
+                       "cv_rms": s.cv_rms, "fit_rms": fit_rms, "fit_rms_float": s.fit_rms,
+                       "data_bytes": data_bytes,
+                       "text_bytes": meas["text_bytes"] if meas else None,
+                       "helper_bytes": meas["helper_bytes"] if meas else None,
+                       "cycles": meas["cycles"][a] if meas else None,
+                       "single_call_cycles": meas["single_call_cycles"] if meas else None,
+                       "energy_uj": energy_uj(meas["cycles"][a]) if meas else None,
+                       "unit": unit}
+                rows.append(row)
+            log(f"  {name} {fam} {size}: {time.time() - t0:.1f} s")
+    return rows
+
+
+def summarise(name, curve, rows):
+    """Choices by blocked CV, the paper's four-point study, Pareto fronts."""
+    out = {"dataset": name, "notes": list(curve.notes), "temp_range_c": [float(curve.temp.min()),
+                                                                         float(curve.temp.max())],
+           "n_temperatures": int(curve.temp.size), "axes": {}}
+    for axis in curve.names:
+        mine = [r for r in rows if r["axis"] == axis]
+        ax = {}
+        for fam in ("poly", "pwl"):
+            scores = [type("S", (), {"size": r["size"], "cv_rms": r["cv_rms"]})
+                      for r in mine if r["family"] == fam]
+            ax[f"cv_choice_{fam}"] = choose(scores).size
+        pts, res = four_point_study(curve.temp, curve.axis(axis))
+        ax["four_point"] = {"mode": pts.mode, "targets_c": list(pts.targets),
+                            "temps_c": [float(curve.temp[i]) for i in pts.index],
+                            "orders": [{"order": r.order, "points_rms": r.points_rms,
+                                        "dense_rms": r.dense_rms} for r in res]}
+        paper = next(r for r in mine if r["family"] == "poly" and r["size"] == PAPER_ORDER)
+        ax["paper_order_cv_rms"] = paper["cv_rms"]
+        if mine[0]["cycles"] is not None:
+            ax["pareto_front"] = [(r["family"], r["size"]) for r in pareto_front(mine)]
+        out["axes"][axis] = ax
+    return out
+
+
+def pareto_front(rows, cost="cycles"):
+    """Rows not dominated in (cost, cv_rms), cheapest first."""
+    front = []
+    for r in sorted(rows, key=lambda r: (r[cost], r["cv_rms"])):
+        if not front or r["cv_rms"] < front[-1]["cv_rms"]:
+            front.append(r)
+    return front
+
+
+def print_table(rows):
+    hdr = (f"{'dataset':8} {'axis':7} {'family':6} {'size':>4} {'cv_rms':>9} {'fit_rms':>9} "
+           f"{'data_B':>6} {'text_B':>6} {'cycles':>8} {'energy_uJ':>9}")
+    print(hdr)
+    print("-" * len(hdr))
+    for r in rows:
+        cyc = "-" if r["cycles"] is None else f"{r['cycles']:8.1f}"
+        en = "-" if r["energy_uj"] is None else f"{r['energy_uj']:9.3f}"
+        tb = "-" if r["text_bytes"] is None else str(r["text_bytes"])
+        print(f"{r['dataset']:8} {r['axis']:7} {r['family']:6} {r['size']:4d} {r['cv_rms']:9.3f} "
+              f"{r['fit_rms']:9.3f} {r['data_bytes']:6d} {tb:>6} {cyc:>8} {en:>9}")
+
+
+def print_summary(summary):
+    for s in summary:
+        print(f"\n{s['dataset']}: {s['n_temperatures']} temperatures, "
+              f"{s['temp_range_c'][0]:.2f}..{s['temp_range_c'][1]:.2f} °C; " + "; ".join(s["notes"]))
+        for axis, a in s["axes"].items():
+            fp = a["four_point"]
+            o = {r["order"]: r for r in fp["orders"]}
+            print(f"  {axis}: blocked CV picks poly order {a['cv_choice_poly']}, table of "
+                  f"{a['cv_choice_pwl']} knots; paper's order 2 cv_rms {a['paper_order_cv_rms']:.2f}; "
+                  f"four points ({fp['mode']}) at " + ", ".join(f"{t:.2f}" for t in fp["temps_c"])
+                  + " °C: dense-curve RMS " + ", ".join(f"order {k} {o[k]['dense_rms']:.2f}" for k in o))
+            if "pareto_front" in a:
+                print("    Pareto front (cycles, cv_rms): "
+                      + ", ".join(f"{f} {n}" for f, n in a["pareto_front"]))
+
+
+# -------------------------------------------------------------------- plot --
+def plot(rows, summary, directory):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    written = []
+    for s in summary:
+        name = s["dataset"]
+        mine = [r for r in rows if r["dataset"] == name]
+        axes = list(s["axes"])
+        fig, subs = plt.subplots(1, len(axes), figsize=(5.2 * len(axes), 4.6), squeeze=False)
+        for ax, axis in zip(subs[0], axes):
+            rs = [r for r in mine if r["axis"] == axis]
+            for fam, mk, col in (("poly", "o", "tab:blue"), ("pwl", "s", "tab:orange")):
+                fr = [r for r in rs if r["family"] == fam]
+                ax.scatter([r["cycles"] for r in fr], [r["cv_rms"] for r in fr], marker=mk, c=col,
+                           label="polynomial (order)" if fam == "poly" else "table (knots)", zorder=3)
+                for r in fr:
+                    ax.annotate(str(r["size"]), (r["cycles"], r["cv_rms"]), fontsize=7,
+                                xytext=(3, 3), textcoords="offset points")
+            front = pareto_front(rs)
+            ax.plot([r["cycles"] for r in front], [r["cv_rms"] for r in front], "k--", lw=1,
+                    label="Pareto front", zorder=2)
+            paper = next(r for r in rs if r["family"] == "poly" and r["size"] == PAPER_ORDER)
+            ax.scatter([paper["cycles"]], [paper["cv_rms"]], s=180, facecolors="none",
+                       edgecolors="red", lw=1.5, label="paper's pick: order 2", zorder=4)
+            fp = {o["order"]: o for o in s["axes"][axis]["four_point"]["orders"]}
+            ax.axhline(fp[PAPER_ORDER]["dense_rms"], color="red", lw=0.8, ls=":",
+                       label="order 2 from 4 points: dense RMS")
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlabel("MSP430F5510 cycles per call (mspdebug sim)")
+            ax.set_ylabel(f"blocked-CV RMS [{rs[0]['unit']}]")
+            ax.set_title(f"{name}: {axis}")
+            ax.grid(True, which="both", alpha=0.3)
+        subs[0][0].legend(fontsize=7, loc="best")
+        fig.text(0.99, 0.01, PAPER_CLAIM, ha="right", va="bottom", fontsize=8,
+                 bbox=dict(boxstyle="round", fc="lightyellow", ec="grey"))
+        fig.tight_layout(rect=(0, 0.08, 1, 1))
+        path = directory / f"pareto_{name}.png"
+        with atomic_output(path, "wb") as fh:
+            fig.savefig(fh, format="png", dpi=110)
+        plt.close(fig)
+        written.append(str(path))
+    return written
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--json", help="write rows and summary as JSON here")
+    ap.add_argument("--plot", help="write pareto_<dataset>.png into this directory")
+    ap.add_argument("--datasets", default="mpu6000,chamber",
+                    help="comma-separated: mpu6000 (real curve), chamber (simulated)")
+    ap.add_argument("--no-mcu", action="store_true",
+                    help="skip the MSP430 builds (cycles, text bytes, energy left empty)")
+    args = ap.parse_args(argv)
+    if args.plot and args.no_mcu:
+        ap.error("--plot needs the MCU cycles (drop --no-mcu)")
+    rows, summary = [], []
+    for name, (curve, unit) in datasets(args.datasets.split(",")).items():
+        print(f"{name}: fitting, cross-validating and measuring ...", file=sys.stderr)
+        r = run_dataset(name, curve, unit, mcu=not args.no_mcu,
+                        log=lambda m: print(m, file=sys.stderr))
+        rows += r
+        summary.append(summarise(name, curve, r))
+    print_table(rows)
+    print_summary(summary)
+    if args.plot:
+        for p in plot(rows, summary, args.plot):
+            print(f"wrote {p}")
+    if args.json:
+        doc = {"description": __doc__, "mcu": {"target": "MSP430F5510", "mclk_hz": MCLK_HZ,
+                                                "supply_a": SUPPLY_A, "supply_v": SUPPLY_V,
+                                                "timing": "mspdebug 0.22 sim, classic MSP430 table",
+                                                "multiplier": "16x16 MPY helpers (-mhwmult=f5series)",
+                                                "temps_per_call_mean": N_TEMPS},
+               "cv": {"blocks": N_BLOCKS, "held_out": "interior blocks"},
+               "rows": rows, "summary": summary}
+        with atomic_output(args.json) as fh:
+            json.dump(doc, fh, indent=1)
+        print(f"wrote {args.json}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
