@@ -49,6 +49,14 @@ PRESETS = {
                   stable_step=0.01, stable_count=1, lockout_n=0,
                   motion_band=0.0, motion_count=1, zero_band=0.0, zero_rate=0.0,
                   units_per_kg=1.0),
+    # The paper's chain and parameters plus the fixes beyond the paper: the
+    # lock-out fix (3 rejections on one side re-seed) and motion-aware
+    # settling with a band of 0.3 kg, about 4 sigma of a 10-sample mean of
+    # the paper's R (sigma 0.22 kg per reading), twice in a row.
+    "adaptive": dict(A0=2.0, window=12, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False,
+                     stable_step=0.01, stable_count=1, lockout_n=3,
+                     motion_band=0.3, motion_count=2, zero_band=0.0, zero_rate=0.0,
+                     units_per_kg=1.0),
     # The default everywhere.  Tuned on the real HX711 step recording
     # (../shared/data/hx711_steps_10hz: ~1000 counts/lb, ~70 counts noise),
     # so its default scale is HX711 counts at 1000 counts per lb.  R is the
