@@ -10,6 +10,9 @@ Every disturbance is a parameter of LoadCellParams and is off (zero) unless
 set, so a run contains exactly what its parameters say:
 
   noise_uv_rms         Gaussian white noise at the ADC input (uV rms).
+  vibration_g_rms      floor vibration: white vertical acceleration (g rms)
+                       acting on the load, so the cell sees load * a extra kg:
+                       noise proportional to the load.
   impulse_rate_hz      impulse interference: each sample is hit with
   impulse_amp_uv       probability rate/fs; the amplitude is uniform in
   impulse_polarity     [amp/2, amp], sign +, - or random ("both").
@@ -59,6 +62,7 @@ class LoadCellParams:
     load_steps: tuple = ((0.0, 0.0),)
     # disturbances, all off by default
     noise_uv_rms: float = 0.0
+    vibration_g_rms: float = 0.0
     impulse_rate_hz: float = 0.0
     impulse_amp_uv: float = 0.0
     impulse_polarity: str = "both"
@@ -83,7 +87,7 @@ class LoadCellParams:
             v = getattr(self, f.name)
             if isinstance(v, float) and not np.isfinite(v):
                 raise RangeError(f"LoadCellParams.{f.name} must be finite, got {v!r}")
-        for name in ("noise_uv_rms", "impulse_rate_hz", "impulse_amp_uv", "periodic_amp_uv",
+        for name in ("noise_uv_rms", "vibration_g_rms", "impulse_rate_hz", "impulse_amp_uv", "periodic_amp_uv",
                      "drift_rw_uv", "ringing_frac"):
             if getattr(self, name) < 0:
                 raise RangeError(f"LoadCellParams.{name} must be >= 0, got {getattr(self, name)!r}")
@@ -143,6 +147,16 @@ def simulate(params=None, seed=0, **overrides):
     t = np.arange(n) / p.rate_hz
     ref_kg, changes = load_profile(p, t)
 
+    # every random draw first, in a fixed order, so that a seed gives the same
+    # numbers whichever disturbances are switched on
+    white = rng.standard_normal(n)
+    hit = rng.random(n) < p.impulse_rate_hz / p.rate_hz
+    amp = rng.uniform(0.5, 1.0, n)
+    sign = np.where(rng.random(n) < 0.5, -1.0, 1.0)
+    walk = rng.standard_normal(n)
+    phase = rng.uniform(0.0, 2 * np.pi)
+    accel = rng.standard_normal(n)
+
     # mechanical part, in kg seen by the cell
     kg = ref_kg.astype(float)
     for t0, dm in changes:
@@ -153,6 +167,8 @@ def simulate(params=None, seed=0, **overrides):
         if p.ringing_frac:
             kg[after] += (dm * p.ringing_frac * np.exp(-dt[after] / p.ringing_tau_s)
                           * np.sin(2 * np.pi * p.ringing_hz * dt[after]))
+    if p.vibration_g_rms:
+        kg += ref_kg * p.vibration_g_rms * accel
 
     # bridge output (uV): linear sensitivity plus the terminal bow
     uv = p.zero_offset_mv * 1e3 + p.uv_per_kg() * kg
@@ -160,13 +176,7 @@ def simulate(params=None, seed=0, **overrides):
         x = kg / p.capacity_kg
         uv += 4.0 * p.nonlinearity_frac_fs * p.uv_per_kg() * p.capacity_kg * x * (1.0 - x)
 
-    # electrical disturbances at the ADC input (uV); fixed draw order keeps seeds stable
-    white = rng.standard_normal(n)
-    hit = rng.random(n) < p.impulse_rate_hz / p.rate_hz
-    amp = rng.uniform(0.5, 1.0, n)
-    sign = np.where(rng.random(n) < 0.5, -1.0, 1.0)
-    walk = rng.standard_normal(n)
-    phase = rng.uniform(0.0, 2 * np.pi)
+    # electrical disturbances at the ADC input (uV)
     uv += p.noise_uv_rms * white
     if p.impulse_polarity != "both":
         sign = np.full(n, 1.0 if p.impulse_polarity == "+" else -1.0)

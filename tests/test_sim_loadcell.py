@@ -147,3 +147,16 @@ def test_csv_round_trip(tmp_path):
 def test_bad_parameters(bad, match):
     with pytest.raises(RangeError, match=match):
         LoadCellParams(**bad)
+
+
+def test_vibration_proportional_to_load():
+    stds = []
+    for kg in (10.0, 40.0):
+        p = LoadCellParams(load_steps=((0.0, kg),), duration_s=600.0)
+        _, e = excess_uv(p, vibration_g_rms=0.01)
+        stds.append(np.std(e) / p.uv_per_kg())
+    assert stds[0] == pytest.approx(0.1, rel=0.05)        # 10 kg * 0.01 g
+    assert stds[1] == pytest.approx(0.4, rel=0.05)
+    p0 = LoadCellParams(duration_s=10.0)
+    _, e0 = excess_uv(p0, vibration_g_rms=0.01)
+    assert np.all(e0 == 0)                               # nothing on an empty cell
