@@ -296,6 +296,7 @@ def summarise(name, curve, rows):
         ax["paper_order_cv_rms"] = paper["cv_rms"]
         if mine[0]["cycles"] is not None:
             ax["pareto_front"] = [(r["family"], r["size"]) for r in pareto_front(mine)]
+        ax["pareto_front_bytes"] = [(r["family"], r["size"]) for r in pareto_front(mine, "data_bytes")]
         out["axes"][axis] = ax
     return out
 
@@ -336,6 +337,8 @@ def print_summary(summary):
             if "pareto_front" in a:
                 print("    Pareto front (cycles, cv_rms): "
                       + ", ".join(f"{f} {n}" for f, n in a["pareto_front"]))
+            print("    Pareto front (data bytes, cv_rms): "
+                  + ", ".join(f"{f} {n}" for f, n in a["pareto_front_bytes"]))
 
 
 # -------------------------------------------------------------------- plot --
@@ -343,6 +346,7 @@ def plot(rows, summary, directory):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import NullFormatter
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
     written = []
@@ -350,35 +354,40 @@ def plot(rows, summary, directory):
         name = s["dataset"]
         mine = [r for r in rows if r["dataset"] == name]
         axes = list(s["axes"])
-        fig, subs = plt.subplots(1, len(axes), figsize=(5.2 * len(axes), 4.6), squeeze=False)
-        for ax, axis in zip(subs[0], axes):
+        fig, subs = plt.subplots(2, len(axes), figsize=(5.2 * len(axes), 8.4), squeeze=False)
+        for col, axis in enumerate(axes):
             rs = [r for r in mine if r["axis"] == axis]
-            for fam, mk, col in (("poly", "o", "tab:blue"), ("pwl", "s", "tab:orange")):
-                fr = [r for r in rs if r["family"] == fam]
-                ax.scatter([r["cycles"] for r in fr], [r["cv_rms"] for r in fr], marker=mk, c=col,
-                           label="polynomial (order)" if fam == "poly" else "table (knots)", zorder=3)
-                for r in fr:
-                    ax.annotate(str(r["size"]), (r["cycles"], r["cv_rms"]), fontsize=7,
-                                xytext=(3, 3), textcoords="offset points")
-            front = pareto_front(rs)
-            ax.plot([r["cycles"] for r in front], [r["cv_rms"] for r in front], "k--", lw=1,
-                    label="Pareto front", zorder=2)
-            paper = next(r for r in rs if r["family"] == "poly" and r["size"] == PAPER_ORDER)
-            ax.scatter([paper["cycles"]], [paper["cv_rms"]], s=180, facecolors="none",
-                       edgecolors="red", lw=1.5, label="paper's pick: order 2", zorder=4)
             fp = {o["order"]: o for o in s["axes"][axis]["four_point"]["orders"]}
-            ax.axhline(fp[PAPER_ORDER]["dense_rms"], color="red", lw=0.8, ls=":",
-                       label="order 2 from 4 points: dense RMS")
-            ax.set_xscale("log")
-            ax.set_yscale("log")
-            ax.set_xlabel("MSP430F5510 cycles per call (mspdebug sim)")
-            ax.set_ylabel(f"blocked-CV RMS [{rs[0]['unit']}]")
-            ax.set_title(f"{name}: {axis}")
-            ax.grid(True, which="both", alpha=0.3)
+            for row, cost, label in ((0, "cycles", "MSP430F5510 cycles per call (mspdebug sim)"),
+                                     (1, "data_bytes", "model bytes per axis (coefficients / table)")):
+                ax = subs[row][col]
+                for fam, mk, colr in (("poly", "o", "tab:blue"), ("pwl", "s", "tab:orange")):
+                    fr = [r for r in rs if r["family"] == fam]
+                    ax.scatter([r[cost] for r in fr], [r["cv_rms"] for r in fr], marker=mk, c=colr,
+                               label="polynomial (order)" if fam == "poly" else "table (knots)",
+                               zorder=3)
+                    for r in fr:
+                        ax.annotate(str(r["size"]), (r[cost], r["cv_rms"]), fontsize=7,
+                                    xytext=(3, 3), textcoords="offset points")
+                front = pareto_front(rs, cost)
+                ax.step([r[cost] for r in front], [r["cv_rms"] for r in front], "k--", lw=1,
+                        where="post", label="Pareto front", zorder=2)
+                paper = next(r for r in rs if r["family"] == "poly" and r["size"] == PAPER_ORDER)
+                ax.scatter([paper[cost]], [paper["cv_rms"]], s=180, facecolors="none",
+                           edgecolors="red", lw=1.5, label="paper's pick: order 2", zorder=4)
+                ax.axhline(fp[PAPER_ORDER]["dense_rms"], color="red", lw=0.8, ls=":",
+                           label="order 2 fitted on the 4 paper points: RMS on the dense curve")
+                ax.set_xscale("log")
+                ax.set_yscale("log")
+                ax.xaxis.set_minor_formatter(NullFormatter())
+                ax.set_xlabel(label)
+                ax.set_ylabel(f"blocked-CV RMS [{rs[0]['unit']}]")
+                ax.set_title(f"{name}: {axis}")
+                ax.grid(True, which="both", alpha=0.3)
         subs[0][0].legend(fontsize=7, loc="best")
         fig.text(0.99, 0.01, PAPER_CLAIM, ha="right", va="bottom", fontsize=8,
                  bbox=dict(boxstyle="round", fc="lightyellow", ec="grey"))
-        fig.tight_layout(rect=(0, 0.08, 1, 1))
+        fig.tight_layout(rect=(0, 0.05, 1, 1))
         path = directory / f"pareto_{name}.png"
         with atomic_output(path, "wb") as fh:
             fig.savefig(fh, format="png", dpi=110)
