@@ -1,0 +1,109 @@
+"""The error-against-cost bench (issue 10): rows complete and consistent,
+the Pareto front, energy, and the MSP430 results equal to the host C bit for
+bit (in the simulator) for a polynomial and a table."""
+import importlib.util
+import json
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, require_shared_data, require_tool
+
+KEYS = {"family", "size", "axis", "cv_rms", "fit_rms", "data_bytes", "text_bytes", "cycles",
+        "energy_uj"}
+
+
+@pytest.fixture(scope="module")
+def bench():
+    spec = importlib.util.spec_from_file_location("model_pareto", ROOT / "bench" / "model_pareto.py")
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules["model_pareto"] = mod
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_energy_at_the_issue_operating_point(bench):
+    # 8000 cycles = 1 ms at 8 MHz; 1.56 mA x 3.3 V x 1 ms = 5.148 µJ
+    assert bench.energy_uj(8000) == pytest.approx(5.148)
+
+
+def test_pareto_front_drops_dominated_rows(bench):
+    rows = [{"cycles": c, "cv_rms": e, "n": i}
+            for i, (c, e) in enumerate([(100, 5.0), (100, 4.0), (200, 4.5), (300, 1.0), (50, 9.0)])]
+    front = bench.pareto_front(rows)
+    assert [r["n"] for r in front] == [4, 1, 3]
+
+
+def test_rows_without_mcu_on_the_chamber(bench, monkeypatch):
+    monkeypatch.setattr(bench, "POLY_ORDERS", (1, 2, 3))
+    monkeypatch.setattr(bench, "PWL_KNOTS", (2, 5, 9))
+    (curve, unit), = bench.datasets(["chamber"]).values()
+    rows = bench.run_dataset("chamber", curve, unit, mcu=False, log=lambda m: None)
+    assert len(rows) == 6 * 3
+    for r in rows:
+        assert KEYS <= set(r)
+        assert r["cycles"] is None and r["energy_uj"] is None
+        assert r["cv_rms"] > 0 and r["fit_rms"] > 0
+    by = {(r["family"], r["size"], r["axis"]): r for r in rows}
+    # the simulated drift is quadratic: order 2 beats order 1 by far, and the
+    # fixed-point fit is within a few percent of the float fit
+    for axis in "xyz":
+        assert by[("poly", 2, axis)]["cv_rms"] < 0.3 * by[("poly", 1, axis)]["cv_rms"]
+        assert by[("poly", 2, axis)]["fit_rms"] == pytest.approx(
+            by[("poly", 2, axis)]["fit_rms_float"], rel=0.05)
+        assert by[("pwl", 2, axis)]["data_bytes"] == 2 * 2 + 10
+        assert by[("poly", 3, axis)]["data_bytes"] == 1 + 4 * 4 + 12
+    summary = bench.summarise("chamber", curve, rows)
+    assert summary["axes"]["x"]["four_point"]["mode"] == "nearest"
+    assert summary["axes"]["x"]["cv_choice_poly"] == 2
+
+
+def test_cli_writes_json_atomically(bench, tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(bench, "POLY_ORDERS", (1, 2))
+    monkeypatch.setattr(bench, "PWL_KNOTS", (3,))
+    out = tmp_path / "p.json"
+    assert bench.main(["--datasets", "chamber", "--no-mcu", "--json", str(out)]) == 0
+    doc = json.loads(out.read_text())
+    assert len(doc["rows"]) == 3 * 3 and doc["summary"][0]["dataset"] == "chamber"
+    assert list(tmp_path.iterdir()) == [out]                        # no temporary left
+    with pytest.raises(SystemExit):
+        bench.main(["--datasets", "chamber", "--no-mcu", "--plot", str(tmp_path)])
+    assert "chamber" in capsys.readouterr().out
+
+
+def test_msp430_equals_host_on_the_real_curve(bench, monkeypatch):
+    """Build both evaluations for the MSP430, run them in mspdebug and compare
+    every output with the host C (the bench itself raises on a mismatch)."""
+    require_tool("clang-14", "clang")
+    require_tool("mspdebug")
+    require_shared_data("mpu6000_gyro_offset_vs_temp/mpu6000_sn102_gyro_offset.csv")
+    monkeypatch.setattr(bench, "POLY_ORDERS", (2,))
+    monkeypatch.setattr(bench, "PWL_KNOTS", (9,))
+    (curve, unit), = bench.datasets(["mpu6000"]).values()
+    rows = bench.run_dataset("mpu6000", curve, unit, mcu=True, log=lambda m: None)
+    by = {(r["family"], r["axis"]): r for r in rows}
+    for axis in curve.names:
+        poly, pwl = by[("poly", axis)], by[("pwl", axis)]
+        for r in (poly, pwl):
+            assert r["cycles"] > 50 and r["text_bytes"] > 50
+            assert r["energy_uj"] == pytest.approx(bench.energy_uj(r["cycles"]))
+        # a table lookup is cheaper than an order-2 Horner pass
+        assert pwl["cycles"] < poly["cycles"]
+        # and on this curve the 9-knot table is far better than order 2
+        assert pwl["cv_rms"] < 0.5 * poly["cv_rms"]
+
+
+def test_pwl_table_cycles_do_not_grow_with_size(bench, monkeypatch):
+    require_tool("clang-14", "clang")
+    require_tool("mspdebug")
+    monkeypatch.setattr(bench, "POLY_ORDERS", ())
+    monkeypatch.setattr(bench, "PWL_KNOTS", (3, 100))
+    temp = np.linspace(0.0, 50.0, 200)
+    from pysig.model_select import Curve
+    curve = Curve(temp=temp, values=np.column_stack([np.sin(temp / 7.0) * 300 + k for k in range(3)]),
+                  names=("a", "b", "c"))
+    small = bench.mcu_pwl("test-pwl3", bench.pwl_models(curve, 3), 3)
+    big = bench.mcu_pwl("test-pwl100", bench.pwl_models(curve, 100), 100)
+    assert abs(np.mean(big["cycles"]) - np.mean(small["cycles"])) < 0.1 * np.mean(small["cycles"])
+    assert big["text_bytes"] == small["text_bytes"]
