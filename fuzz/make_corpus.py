@@ -42,11 +42,11 @@ def seeds_types():
 
 def seeds_pwl():
     import struct as s
-    # q16: mode 0, n, shift, vf, derive=1, t_lo, t_hi, recip, table, temperatures
-    for k, (n, shift, vf, lo, hi) in enumerate([(2, 0, 8, 0, 1000), (5, 4, 0, -2000, 2000),
-                                                (255, 31, 15, -32768, 32767), (17, 10, 4, 100, 101)]):
+    # q16: mode 0, n, vf, derive (bit 0: recip from the range), t_lo, t_hi, recip u32, table, temperatures
+    for k, (n, vf, lo, hi) in enumerate([(2, 8, 0, 1000), (5, 0, -2000, 2000),
+                                         (255, 15, -32768, 32767), (17, 4, 100, 101)]):
         tab = [(-1) ** i * (i * 977 % 32768) for i in range(n)]
-        data = bytes([0, n, shift, vf, 1]) + s.pack("<hhH", lo, hi, 1) + s.pack(f"<{n}h", *tab)
+        data = bytes([0, n, vf, 1]) + s.pack("<hhI", lo, hi, 1) + s.pack(f"<{n}h", *tab)
         data += s.pack("<4h", lo - 1 if lo > -32768 else lo, hi, (lo + hi) // 2, 0)
         write("pwl", f"seed-q16-{k}", data)
     # float: mode 1, n, derive=1, t_lo, t_hi, inv_step (derived), table, temperatures

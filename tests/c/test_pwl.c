@@ -16,30 +16,30 @@ static int64_t floor_shift(int64_t x, unsigned n)
 }
 
 static int32_t ref_q16(const int16_t *tab, unsigned n, int16_t t_lo, int16_t t_hi,
-                       uint16_t recip, uint8_t shift, uint8_t vf, int32_t t)
+                       uint32_t recip, uint8_t vf, int32_t t)
 {
     int64_t pos, seg, acc, out;
     if (t < t_lo) t = t_lo;
     if (t > t_hi) t = t_hi;
-    pos = (((int64_t)t - t_lo) * recip) >> shift;
-    seg = pos >> 12;
+    pos = (((int64_t)t - t_lo) * (int64_t)recip) >> 16;
+    seg = pos >> 16;
     if (seg >= (int64_t)n - 1) acc = (int64_t)tab[n - 1] * 4096;
-    else acc = (int64_t)tab[seg] * 4096 + ((int64_t)tab[seg + 1] - tab[seg]) * (pos & 4095);
+    else acc = (int64_t)tab[seg] * 4096 + ((int64_t)tab[seg + 1] - tab[seg]) * ((pos & 0xFFFF) >> 4);
     out = vf >= 4 ? floor_shift(acc, vf - 4u) : acc * ((int64_t)1 << (4u - vf));
     return out > INT32_MAX ? INT32_MAX : out < INT32_MIN ? INT32_MIN : (int32_t)out;
 }
 
-static void sweep_q16(const int16_t *tab, uint8_t n, int16_t t_lo, int16_t t_hi, uint8_t shift,
-                      uint8_t vf)
+static void sweep_q16(const int16_t *tab, uint8_t n, int16_t t_lo, int16_t t_hi, uint8_t vf)
 {
     sig_pwl_q16 p;
     int32_t t, out;
-    uint16_t recip = (uint16_t)((((int64_t)(n - 1) << 12) << shift) / ((int32_t)t_hi - t_lo));
-    CHECK_EQ_I(sig_pwl_init_q16(&p, tab, n, t_lo, t_hi, recip, shift, vf), SIG_OK);
+    int64_t r = ((int64_t)(n - 1) << 32) / ((int32_t)t_hi - t_lo);
+    uint32_t recip = r > (int64_t)UINT32_MAX ? UINT32_MAX : (uint32_t)r;   /* Q0.32 tops out below 1 */
+    CHECK_EQ_I(sig_pwl_init_q16(&p, tab, n, t_lo, t_hi, recip, vf), SIG_OK);
     for (t = INT16_MIN; t <= INT16_MAX; t++) {
         sig_status st = sig_pwl_eval_q16(&p, (int16_t)t, &out);
         CHECK_EQ_I(st, (t < t_lo || t > t_hi) ? SIG_WARN_CLAMPED : SIG_OK);
-        CHECK_EQ_I(out, ref_q16(tab, n, t_lo, t_hi, recip, shift, vf, t));
+        CHECK_EQ_I(out, ref_q16(tab, n, t_lo, t_hi, recip, vf, t));
     }
 }
 
@@ -52,20 +52,26 @@ int main(void)
     sig_pwl_f pf, before_f;
     sig_real out;
 
-    sweep_q16(rails, 3, -32768, 32767, 4, 0);     /* the largest values at vf 0: +-2^31 rails */
-    sweep_q16(rails, 3, -100, 100, 8, 15);
-    sweep_q16(ramp, 5, -2000, 2000, 8, 4);
-    sweep_q16(ramp, 2, 0, 1, 0, 7);
+    sweep_q16(rails, 3, -32768, 32767, 0);        /* the largest values, at value_frac 0 */
+    sweep_q16(rails, 3, -100, 100, 15);
+    sweep_q16(ramp, 5, -2000, 2000, 4);
+    sweep_q16(ramp, 2, 0, 1, 7);
+    sweep_q16(ramp, 5, 1000, 1013, 5);            /* 4 segments over 13 units: knots between codes */
 
     memset(&p, 0x5A, sizeof p);
     before = p;
-    CHECK_EQ_I(sig_pwl_init_q16(&p, ramp, 1, 0, 100, 40, 0, 4), SIG_ERR_ARG);   /* one knot */
-    CHECK_EQ_I(sig_pwl_init_q16(&p, ramp, 5, 100, 100, 40, 0, 4), SIG_ERR_ARG); /* empty range */
-    CHECK_EQ_I(sig_pwl_init_q16(&p, ramp, 5, 0, 100, 0, 0, 4), SIG_ERR_ARG);    /* recip 0 */
-    CHECK_EQ_I(sig_pwl_init_q16(&p, ramp, 5, 0, 100, 40, 32, 4), SIG_ERR_ARG);  /* shift */
-    CHECK_EQ_I(sig_pwl_init_q16(&p, ramp, 5, 0, 100, 40, 0, 16), SIG_ERR_ARG);  /* value_frac */
-    CHECK_EQ_I(sig_pwl_init_q16(&p, NULL, 5, 0, 100, 40, 0, 4), SIG_ERR_ARG);
-    CHECK_EQ_I(sig_pwl_init_q16(NULL, ramp, 5, 0, 100, 40, 0, 4), SIG_ERR_ARG);
+    {
+        uint32_t r = (uint32_t)(((int64_t)4 << 32) / 100);   /* 4 segments over 100 units */
+        CHECK_EQ_I(sig_pwl_init_q16(&p, ramp, 1, 0, 100, r, 4), SIG_ERR_ARG);      /* one knot */
+        CHECK_EQ_I(sig_pwl_init_q16(&p, ramp, 5, 100, 100, r, 4), SIG_ERR_ARG);    /* empty range */
+        CHECK_EQ_I(sig_pwl_init_q16(&p, ramp, 5, 0, 100, 0, 4), SIG_ERR_ARG);      /* recip 0 */
+        CHECK_EQ_I(sig_pwl_init_q16(&p, ramp, 5, 0, 100, r * 2, 4), SIG_ERR_ARG);  /* ends past the table */
+        CHECK_EQ_I(sig_pwl_init_q16(&p, ramp, 5, 0, 100, r / 2, 4), SIG_ERR_ARG);  /* ends short of it */
+        CHECK_EQ_I(sig_pwl_init_q16(&p, ramp, 5, 0, 100, UINT32_MAX, 4), SIG_ERR_ARG);
+        CHECK_EQ_I(sig_pwl_init_q16(&p, ramp, 5, 0, 100, r, 16), SIG_ERR_ARG);     /* value_frac */
+        CHECK_EQ_I(sig_pwl_init_q16(&p, NULL, 5, 0, 100, r, 4), SIG_ERR_ARG);
+        CHECK_EQ_I(sig_pwl_init_q16(NULL, ramp, 5, 0, 100, r, 4), SIG_ERR_ARG);
+    }
     CHECK(memcmp(&p, &before, sizeof p) == 0);
 
     memset(&pf, 0x5A, sizeof pf);
