@@ -237,13 +237,15 @@ def plot_channel(path, t, result, title, configs=CONFIGS, nominal=True):
     fig, (ax, axs) = plt.subplots(2, 1, figsize=(11, 6), sharex=True,
                                   gridspec_kw={"height_ratios": [5, 1]})
     colors = {"raw": "0.7", "paper_chain": "tab:red", "kalman": "tab:orange", "recommended": "tab:blue"}
-    for config in configs:
-        out, _ = result["outputs"][config]
-        ax.plot(t, out, color=colors[config], lw=0.8 if config == "raw" else 1.4, label=config)
     ok = np.ones(lb.size, dtype=bool)
     ok[glitches] = False
     lo, hi = np.min(lb[ok]), np.max(lb[ok])
     pad = 0.08 * (hi - lo) + 0.5
+    for config in configs:
+        out, _ = result["outputs"][config]
+        off = config != "raw" and (np.min(out) < lo - pad or np.max(out) > hi + pad)
+        ax.plot(t, out, color=colors[config], lw=0.8 if config == "raw" else 1.4,
+                label=config + (" (leaves the plot: glitches)" if off else ""))
     ax.set_ylim(lo - pad, hi + pad)
     for g in glitches:
         ax.annotate("glitch", (t[g], lo - pad), xytext=(t[g], lo - 0.5 * pad), fontsize=7,
