@@ -19,12 +19,26 @@ static int32_t scale_wide(int32_t d, int16_t u_mul, uint8_t u_shift)
     return sig_asr32(prod, u_shift);
 }
 
+/* Axis-major coef[n_axes][order + 1] into the fixed-size table, zero-filled.
+ * A walking pointer keeps few values live (sdcc spills to internal RAM). */
+static void copy_coef_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order, const int32_t *src)
+{
+    uint8_t a, k;
+    int32_t *dst;
+    for (a = 0; a < SIG_TCOMP_MAX_AXES; a++) {
+        dst = m->coef[a];
+        for (k = 0; k <= SIG_TCOMP_MAX_ORDER; k++) dst[k] = 0;
+        if (a < n_axes)
+            for (k = 0; k <= order; k++) dst[k] = *src++;
+    }
+}
+
 sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
                             const int32_t *coef, const uint8_t *q,
                             int16_t t_lo, int16_t t_hi, int16_t t_center, int16_t t0,
                             int16_t u_mul, uint8_t u_shift)
 {
-    uint8_t a, k;
+    uint8_t a;
     int32_t d_hi, d_lo;
     if (m == NULL || coef == NULL || q == NULL) return SIG_ERR_ARG;
     if (n_axes < 1u || n_axes > SIG_TCOMP_MAX_AXES) return SIG_ERR_ARG;
@@ -39,11 +53,8 @@ sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
         return SIG_ERR_ARG;
     for (a = 0; a < n_axes; a++)
         if (q[a] > SIG_TCOMP_MAX_Q) return SIG_ERR_ARG;
-    for (a = 0; a < SIG_TCOMP_MAX_AXES; a++) {
-        m->q[a] = a < n_axes ? q[a] : 0u;
-        for (k = 0; k <= SIG_TCOMP_MAX_ORDER; k++)
-            m->coef[a][k] = (a < n_axes && k <= order) ? coef[(uint16_t)a * (uint16_t)(order + 1u) + k] : 0;
-    }
+    copy_coef_q(m, n_axes, order, coef);
+    for (a = 0; a < SIG_TCOMP_MAX_AXES; a++) m->q[a] = a < n_axes ? q[a] : 0u;
     m->t_lo = t_lo;
     m->t_hi = t_hi;
     m->t_center = t_center;
@@ -108,8 +119,8 @@ static bool finite_real(sig_real x)
 sig_status sig_tcomp_init_f(sig_tcomp_f *m, uint8_t n_axes, uint8_t order, const sig_real *coef,
                             sig_real t_lo, sig_real t_hi, sig_real center, sig_real inv_scale)
 {
-    uint8_t a, k;
-    uint16_t n;
+    uint8_t a, k, n;
+    sig_real *dst;
     if (m == NULL || coef == NULL) return SIG_ERR_ARG;
     if (n_axes < 1u || n_axes > SIG_TCOMP_MAX_AXES) return SIG_ERR_ARG;
     if (order < SIG_TCOMP_MIN_ORDER || order > SIG_TCOMP_MAX_ORDER) return SIG_ERR_ARG;
@@ -117,13 +128,15 @@ sig_status sig_tcomp_init_f(sig_tcomp_f *m, uint8_t n_axes, uint8_t order, const
         return SIG_ERR_NONFINITE;
     if (!(t_lo < t_hi) || center < t_lo || center > t_hi || !(inv_scale > SIG_REAL(0.0)))
         return SIG_ERR_ARG;
-    n = (uint16_t)((uint16_t)n_axes * (uint16_t)(order + 1u));
+    n = (uint8_t)(n_axes * (uint8_t)(order + 1u));
     for (k = 0; k < n; k++)
         if (!finite_real(coef[k])) return SIG_ERR_NONFINITE;
-    for (a = 0; a < SIG_TCOMP_MAX_AXES; a++)
-        for (k = 0; k <= SIG_TCOMP_MAX_ORDER; k++)
-            m->coef[a][k] = (a < n_axes && k <= order)
-                ? coef[(uint16_t)a * (uint16_t)(order + 1u) + k] : SIG_REAL(0.0);
+    for (a = 0; a < SIG_TCOMP_MAX_AXES; a++) {
+        dst = m->coef[a];
+        for (k = 0; k <= SIG_TCOMP_MAX_ORDER; k++) dst[k] = SIG_REAL(0.0);
+        if (a < n_axes)
+            for (k = 0; k <= order; k++) dst[k] = *coef++;
+    }
     m->t_lo = t_lo;
     m->t_hi = t_hi;
     m->center = center;
