@@ -22,6 +22,7 @@ sig_status sig_antipulse_init_f(sig_antipulse_f *s, uint8_t n)
 {
     if (!s || n < 3u || n > SIG_ANTIPULSE_MAX) return SIG_ERR_ARG;
     s->n = n;
+    s->inv = SIG_REAL(1.0) / (sig_real)(n - 2u);
     return sig_antipulse_reset_f(s);
 }
 
@@ -30,29 +31,72 @@ sig_status sig_antipulse_reset_f(sig_antipulse_f *s)
     if (!s) return SIG_ERR_ARG;
     s->count = 0u;
     s->head = 0u;
+    s->sum = s->mx = s->mn = SIG_REAL(0.0);
     return SIG_OK;
+}
+
+/* Trimmed mean without overflow: sum of v / d over the held samples, one
+ * maximum and one minimum left out (each term and partial sum is at most
+ * max |v|). */
+static sig_real safe_mean_f(const sig_antipulse_f *s)
+{
+    sig_real acc = SIG_REAL(0.0), d;
+    bool skip_mx = s->count >= 3u, skip_mn = s->count >= 3u;
+    uint8_t i;
+    d = s->count >= 3u ? (sig_real)(s->count - 2u) : (sig_real)s->count;
+    for (i = 0u; i < s->count; i++) {
+        sig_real v = s->buf[i];
+        if (skip_mx && v == s->mx) { skip_mx = false; continue; }
+        if (skip_mn && v == s->mn) { skip_mn = false; continue; }
+        acc += v / d;
+    }
+    return acc;
 }
 
 sig_status sig_antipulse_step_f(sig_antipulse_f *s, sig_real x, sig_real *out)
 {
-    sig_real sum, mx, mn, v;
+    sig_real old, t, v;
+    bool full;
     uint8_t i;
     if (!s || !out) return SIG_ERR_ARG;
     if (!is_finite(x)) return SIG_ERR_NONFINITE;
+    full = s->count == s->n;
+    old = s->buf[s->head];
     s->buf[s->head] = x;
     s->head++;
     if (s->head >= s->n) s->head = 0u;
-    if (s->count < s->n) s->count++;
-    sum = mx = mn = s->buf[0];
-    for (i = 1u; i < s->count; i++) {
-        v = s->buf[i];
-        sum += v;
-        if (v > mx) mx = v;
-        if (v < mn) mn = v;
+    if (!full) s->count++;
+    /* extremes: rescan only when one of them leaves the window */
+    if (s->count == 1u) {
+        s->mx = s->mn = x;
+    } else if (full && (old == s->mx || old == s->mn)) {
+        s->mx = s->mn = s->buf[0];
+        for (i = 1u; i < s->count; i++) {
+            v = s->buf[i];
+            if (v > s->mx) s->mx = v;
+            if (v < s->mn) s->mn = v;
+        }
+    } else {
+        if (x > s->mx) s->mx = x;
+        if (x < s->mn) s->mn = x;
     }
-    if (s->count == 1u) *out = sum;
-    else if (s->count == 2u) *out = sum * SIG_REAL(0.5);
-    else *out = (sum - mx - mn) / (sig_real)(s->count - 2u);
+    /* sum: incremental, recomputed when the write position wraps */
+    s->sum = full ? (s->sum - old) + x : s->sum + x;
+    if (s->head == 0u || !is_finite(s->sum)) {
+        s->sum = s->buf[0];
+        for (i = 1u; i < s->count; i++) s->sum += s->buf[i];
+    }
+    if (s->count == 1u) {
+        *out = x;
+    } else if (s->count == 2u) {
+        t = s->sum * SIG_REAL(0.5);
+        *out = is_finite(t) ? t : safe_mean_f(s);
+    } else {
+        t = s->sum - s->mx - s->mn;
+        if (!is_finite(t)) *out = safe_mean_f(s);
+        else if (full || s->count == s->n) *out = t * s->inv;
+        else *out = t / (sig_real)(s->count - 2u);
+    }
     return SIG_OK;
 }
 
@@ -68,34 +112,47 @@ sig_status sig_antipulse_reset_q(sig_antipulse_q *s)
     if (!s) return SIG_ERR_ARG;
     s->count = 0u;
     s->head = 0u;
+    s->sum = s->mx = s->mn = 0;
     return SIG_OK;
 }
 
 sig_status sig_antipulse_step_q(sig_antipulse_q *s, int32_t x, int32_t *out)
 {
     sig_status st = SIG_OK;
-    int32_t sum, mx, mn, v;
+    int32_t old, v, t;
+    bool full;
     uint8_t i, d;
     if (!s || !out) return SIG_ERR_ARG;
     if (x > SIG_CODE_MAX) { x = SIG_CODE_MAX; st = SIG_WARN_CLAMPED; }
     else if (x < -SIG_CODE_MAX) { x = -SIG_CODE_MAX; st = SIG_WARN_CLAMPED; }
+    full = s->count == s->n;
+    old = s->buf[s->head];
     s->buf[s->head] = x;
     s->head++;
     if (s->head >= s->n) s->head = 0u;
-    if (s->count < s->n) s->count++;
-    sum = mx = mn = s->buf[0];
-    for (i = 1u; i < s->count; i++) {    /* |sum| <= 32 * (2^24 - 1) < 2^29 */
-        v = s->buf[i];
-        sum += v;
-        if (v > mx) mx = v;
-        if (v < mn) mn = v;
+    if (!full) s->count++;
+    if (s->count == 1u) {
+        s->mx = s->mn = x;
+    } else if (full && (old == s->mx || old == s->mn)) {
+        s->mx = s->mn = s->buf[0];
+        for (i = 1u; i < s->count; i++) {
+            v = s->buf[i];
+            if (v > s->mx) s->mx = v;
+            if (v < s->mn) s->mn = v;
+        }
+    } else {
+        if (x > s->mx) s->mx = x;
+        if (x < s->mn) s->mn = x;
     }
+    /* exact: every term is within +-(2^24 - 1), at most 32 of them */
+    s->sum = full ? s->sum - old + x : s->sum + x;
     if (s->count >= 3u) {
-        sum = sum - mx - mn;
+        t = s->sum - s->mx - s->mn;
         d = (uint8_t)(s->count - 2u);
     } else {
+        t = s->sum;
         d = s->count;
     }
-    *out = d == 1u ? sum : sig_div_round_small(sum, d, recip_table);
+    *out = d == 1u ? t : sig_div_round_small(t, d, recip_table);
     return st;
 }

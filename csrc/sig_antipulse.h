@@ -6,8 +6,17 @@
  * k = 1: the sample itself; k = 2: the mean of the two; k >= 3: the mean of
  * the k samples without one maximum and one minimum.
  *
- * Float form (_f): sum, max and min are taken in storage order (index 0 up),
- * then (sum - max - min) / (k - 2).
+ * The window sum and its extremes are kept up to date as samples come and
+ * go (an evicted maximum or minimum makes the stage rescan the window), so a
+ * step costs a few operations, not a pass over N samples.
+ *
+ * Float form (_f): sum = (sum - evicted) + x, recomputed in storage order
+ * (index 0 up) whenever the write position wraps to 0, so rounding never
+ * accumulates over more than N samples.  Output (sum - max - min) * (1/(N-2))
+ * for a full window (reciprocal from _init), (sum - max - min) / (k - 2)
+ * while filling, sum * 0.5 for two samples.  If a sum overflows (huge
+ * samples) the mean is taken as the sum of v / d over the trimmed samples,
+ * which cannot overflow.
  *
  * Fixed form (_q): int32 ADC codes, Q0.  Inputs are clamped to
  * [-SIG_CODE_MAX, SIG_CODE_MAX] (25-bit signed, wider than any 24-bit ADC;
@@ -27,6 +36,8 @@
 
 typedef struct {
     sig_real buf[SIG_ANTIPULSE_MAX];
+    sig_real sum, mx, mn;   /* of the samples held */
+    sig_real inv;           /* 1 / (n - 2) */
     uint8_t n;       /* window length */
     uint8_t count;   /* samples held, <= n */
     uint8_t head;    /* next slot to write */
@@ -34,6 +45,7 @@ typedef struct {
 
 typedef struct {
     int32_t buf[SIG_ANTIPULSE_MAX];   /* codes, |v| <= SIG_CODE_MAX */
+    int32_t sum, mx, mn;              /* of the samples held; |sum| < 2^29 */
     uint8_t n;
     uint8_t count;
     uint8_t head;

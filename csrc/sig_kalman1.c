@@ -28,6 +28,7 @@ sig_status sig_kalman1_reset_f(sig_kalman1_f *s)
     s->k = SIG_REAL(0.0);
     s->innov = SIG_REAL(0.0);
     s->seeded = false;
+    s->converged = false;
     return SIG_OK;
 }
 
@@ -35,23 +36,30 @@ sig_status sig_kalman1_restart_f(sig_kalman1_f *s)
 {
     if (!s) return SIG_ERR_ARG;
     s->p = s->p0;
+    s->converged = false;
     return SIG_OK;
 }
 
 sig_status sig_kalman1_step_f(sig_kalman1_f *s, sig_real z, sig_real *out)
 {
-    sig_real pm;
+    sig_real pm, den, pn;
     if (!s || !out) return SIG_ERR_ARG;
     if (!is_finite(z)) return SIG_ERR_NONFINITE;
     if (!s->seeded) {
         s->seeded = true;
         if (s->seed_first) s->x = z;
     }
-    pm = s->p + s->q;
-    s->k = pm / (pm + s->r);
+    if (!s->converged) {
+        pm = s->p + s->q;
+        den = pm + s->r;
+        s->k = is_finite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + s->r / pm);
+        pn = s->r * s->k;
+        s->converged = pn == s->p;
+        s->p = pn;
+    }
     s->innov = z - s->x;
-    s->x = s->x + s->k * s->innov;
-    s->p = (SIG_REAL(1.0) - s->k) * pm;
+    if (is_finite(s->innov)) s->x = s->x + s->k * s->innov;
+    else s->x = (SIG_REAL(1.0) - s->k) * s->x + s->k * z;
     *out = s->x;
     return SIG_OK;
 }

@@ -5,6 +5,12 @@
  *   gain     K  = P- / (P- + R)
  *   update   x  = x + K (z - x),   P = (1 - K) P-
  *
+ * computed as P = R K (equal to (1 - K) P-, without its cancellation).
+ * Float form: once P stops changing (P after an update equals P before),
+ * the gain is constant and its update is skipped; this changes no result.
+ * Overflow guards keep the state finite for any finite input: if P- + R
+ * overflows, K = 1 / (1 + R / P-); if z - x overflows, x = (1 - K) x + K z.
+ *
  * Paper defaults Q = 1e-7, R = 0.05, x0 = 1, P0 = 10 (kg units).  With
  * seed_first the state starts from the first measurement instead of x0 (a
  * textbook filter that needs no guess).  sig_kalman1_restart_* sets P back
@@ -36,6 +42,7 @@ typedef struct {
     sig_real k, innov;       /* last gain and innovation z - x- */
     bool seed_first;
     bool seeded;
+    bool converged;          /* P reached its fixed point: gain update skipped */
 } sig_kalman1_f;
 
 typedef struct {

@@ -240,39 +240,70 @@ class LimitFilter:
 class AntiPulse:
     """Mean of the last N samples without one max and one min.  Filling:
     1 sample -> itself, 2 -> their mean, k >= 3 -> trimmed mean of the k.
-    Fixed: codes clamped to +-CODE_MAX, round-half-up((sum-max-min)/(k-2))."""
+    Fixed: codes clamped to +-CODE_MAX, round-half-up((sum-max-min)/(k-2)).
+    Float: the C keeps a running sum (re-summed in storage order each time
+    the write position wraps) and multiplies by 1/(N-2) for a full window;
+    this twin does the same operations so the float results agree to the bit."""
 
     def __init__(self, window=12, fixed=False):
         _check(int(window) == window and 3 <= window <= WINDOW_MAX, "window", window,
                f"must be an integer in 3..{WINDOW_MAX}")
         self.n = int(window)
         self.fixed = bool(fixed)
+        self.inv = 1.0 / (self.n - 2)
         self.reset()
 
     def reset(self):
         self.buf, self.count, self.head, self.status = [0] * self.n, 0, 0, OK
+        self.sum = 0.0
 
     def _step(self, x):
         st = OK
         if self.fixed and abs(x) > CODE_MAX:
             x, st = clamp_code(x), WARN_CLAMPED
+        full = self.count == self.n
+        old = self.buf[self.head]
         self.buf[self.head] = x
         self.head = (self.head + 1) % self.n
         self.count = min(self.count + 1, self.n)
         held = self.buf[:self.count]
-        total = held[0]
-        for v in held[1:]:
-            total += v
         mx, mn = max(held), min(held)
-        if self.count >= 3:
-            total, d = total - mx - mn, self.count - 2
-        else:
-            d = self.count
-        if self.fixed:
+        if self.fixed:                         # the definition, exactly
+            if self.count >= 3:
+                total, d = sum(held) - mx - mn, self.count - 2
+            else:
+                total, d = sum(held), self.count
             return (total + d // 2) // d, st
-        if d == 1:
-            return total, st
-        return (total * 0.5 if self.count == 2 else total / d), st
+        self.sum = (self.sum - old) + x if full else self.sum + x
+        if self.head == 0 or not math.isfinite(self.sum):
+            self.sum = held[0]
+            for v in held[1:]:
+                self.sum += v
+        if self.count == 1:
+            return x, st
+        if self.count == 2:
+            t = self.sum * 0.5
+            return (t if math.isfinite(t) else self._safe_mean(held, mx, mn)), st
+        t = self.sum - mx - mn
+        if not math.isfinite(t):
+            return self._safe_mean(held, mx, mn), st
+        return (t * self.inv if self.count == self.n else t / (self.count - 2)), st
+
+    def _safe_mean(self, held, mx, mn):
+        """Overflow-free trimmed mean: sum of v / d, one max and one min left out."""
+        trim = len(held) >= 3
+        d = float(len(held) - 2 if trim else len(held))
+        skip_mx = skip_mn = trim
+        acc = 0.0
+        for v in held:
+            if skip_mx and v == mx:
+                skip_mx = False
+                continue
+            if skip_mn and v == mn:
+                skip_mn = False
+                continue
+            acc += v / d
+        return acc
 
     def step(self, x):
         if self.fixed:
@@ -288,7 +319,7 @@ class AntiPulse:
 
 # ---- stage 3: scalar Kalman filter -----------------------------------------
 class Kalman1:
-    """A = 1, H = 1: P- = P + Q; K = P-/(P- + R); x += K (z - x); P = (1-K) P-.
+    """A = 1, H = 1: P- = P + Q; K = P-/(P- + R); x += K (z - x); P = R K.
     Fixed: runs on P/R with y = 1/(1 + K + q) by two Newton steps (see
     csrc/sig_kalman1.h); samples are codes, x is Q24.7."""
 
@@ -336,10 +367,14 @@ class Kalman1:
                     self._x = z
         if not self.fixed:
             pm = self._P + self.Q
-            self._K = pm / (pm + self.R)
+            den = pm + self.R
+            self._K = pm / den if math.isfinite(den) else 1.0 / (1.0 + self.R / pm)
+            self._P = self.R * self._K                 # = (1 - K) P-, without the cancellation
             self._innov = z - self._x
-            self._x = self._x + self._K * self._innov
-            self._P = (1.0 - self._K) * pm
+            if math.isfinite(self._innov):
+                self._x = self._x + self._K * self._innov
+            else:                                      # z - x overflowed: same update, other form
+                self._x = (1.0 - self._K) * self._x + self._K * z
             return self._x
         if self.phase == 0:
             self.y, self.phase = self.y1, 1
