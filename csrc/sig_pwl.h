@@ -69,6 +69,29 @@ sig_status sig_pwl_init_q16(sig_pwl_q16 *p, const int16_t *table, uint8_t n_knot
  * value at the nearer end is returned); SIG_ERR_ARG for NULL pointers. */
 sig_status sig_pwl_eval_q16(const sig_pwl_q16 *p, int16_t t, int32_t *out_q16);
 
+/* ---- coefficient image: payload of SIG_SECTION_PWL_TABLE (sig_image.h) ----
+ *   0  u8  n_axes (1..3)    1  u8 n_knots (2..255)
+ *   2  i16 t_lo   4  i16 t_hi   6  u32 recip        (shared by every axis)
+ *   10 per axis: u8 value_frac, then n_knots x i16 entries
+ *   length = 10 + n_axes * (1 + 2 * n_knots), little-endian, unaligned.
+ * Written by pysig.pwl.pwl_payload. */
+#define SIG_PWL_MAX_AXES       3u
+#define SIG_PWL_IMAGE_FIXED_LEN 10u
+
+/* Load the tables of a coefficient image: validates the image (sig_image.h),
+ * finds its SIG_SECTION_PWL_TABLE section, checks the payload and every
+ * axis' parameters (as sig_pwl_init_q16), then copies the entries into the
+ * caller's `storage` (int16, aligned; at least n_axes * n_knots entries,
+ * `storage_len` given in entries) and initialises tables[0 .. n_axes-1],
+ * which point into it.  *n_axes receives the count.  Errors: the image's
+ * validation status (SIG_ERR_FORMAT, SIG_ERR_CRC), SIG_ERR_EMPTY when there is
+ * no table section, SIG_ERR_FORMAT for a malformed payload or parameters,
+ * SIG_ERR_ARG for NULL pointers or too little room (n_axes > max_axes or
+ * storage too short).  On any error nothing is written. */
+sig_status sig_pwl_load_image(sig_pwl_q16 *tables, uint8_t max_axes, uint8_t *n_axes,
+                              int16_t *storage, uint16_t storage_len,
+                              const uint8_t *image, size_t len);
+
 /* SIG_ERR_ARG for a NULL pointer, n_knots outside 2..255, a non-finite or
  * empty range, inv_step <= 0 or a range not ending in the last segment;
  * SIG_ERR_NONFINITE for a non-finite table entry. */

@@ -3,10 +3,10 @@
 numpy array of temperatures with the very C code the firmware runs."""
 import numpy as np
 cimport numpy as cnp
-from libc.stdint cimport int16_t, int32_t, uint8_t, uint32_t
+from libc.stdint cimport int16_t, int32_t, uint8_t, uint16_t, uint32_t
 from libc.math cimport NAN
 
-from .errors import RangeError, NonFiniteError
+from .errors import ModelFileError, RangeError, NonFiniteError
 
 cnp.import_array()
 
@@ -16,12 +16,20 @@ cdef extern from "sig_types.h":
 
 cdef extern from "sig_pwl.h":
     ctypedef struct sig_pwl_q16:
-        pass
+        const int16_t *table
+        uint32_t recip
+        int16_t t_lo
+        int16_t t_hi
+        uint8_t n_knots
+        uint8_t value_frac
     ctypedef struct sig_pwl_f:
         pass
     sig_status sig_pwl_init_q16(sig_pwl_q16 *p, const int16_t *table, uint8_t n_knots,
                                 int16_t t_lo, int16_t t_hi, uint32_t recip, uint8_t value_frac)
     sig_status sig_pwl_eval_q16(const sig_pwl_q16 *p, int16_t t, int32_t *out_q16) nogil
+    sig_status sig_pwl_load_image(sig_pwl_q16 *tables, uint8_t max_axes, uint8_t *n_axes,
+                                  int16_t *storage, uint16_t storage_len,
+                                  const uint8_t *image, size_t len)
     sig_status sig_pwl_init_f(sig_pwl_f *p, const sig_real *table, uint8_t n_knots,
                               sig_real t_lo, sig_real t_hi, sig_real inv_step)
     sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out) nogil
@@ -82,3 +90,26 @@ def eval_f(table, double t_lo, double t_hi, double inv_step, t):
             status[i] = sig_pwl_eval_f(&p, temps[i], &y)
             out[i] = y if status[i] >= 0 else NAN
     return out, status
+
+
+def load_image(data, where="image"):
+    """C sig_pwl_load_image on image bytes: a list of dicts (table int16 array,
+    t_lo, t_hi, recip, value_frac) as the C loaded them.  ModelFileError
+    names the C status when it rejects the image."""
+    cdef bytes raw = bytes(data)
+    cdef const uint8_t[::1] b = raw + b"\0"
+    cdef sig_pwl_q16 tabs[3]
+    cdef int16_t storage[3 * 255]
+    cdef uint8_t n_axes = 0
+    st = sig_pwl_load_image(tabs, 3, &n_axes, storage, 3 * 255, &b[0], len(raw))
+    if st != 0:
+        text = {-3: "bad format (magic, version, length, sections or table payload)",
+                -4: "CRC mismatch", -5: "no piecewise-linear table section",
+                -1: "more axes or entries than the loader has room for"}.get(st, f"status {st}")
+        raise ModelFileError(f"{where}: the C loader rejected the image: {text}")
+    out = []
+    for a in range(n_axes):
+        out.append({"table": np.array([tabs[a].table[k] for k in range(tabs[a].n_knots)], dtype=np.int16),
+                    "t_lo": tabs[a].t_lo, "t_hi": tabs[a].t_hi, "recip": tabs[a].recip,
+                    "value_frac": tabs[a].value_frac})
+    return out

@@ -16,7 +16,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _pwl
-from .errors import InsufficientDataError, NonFiniteError, RangeError
+import struct
+
+from .errors import InsufficientDataError, ModelFileError, NonFiniteError, RangeError
+from .image import SECTION_PWL_TABLE, build_image, find_section
 from .lsq import fit_linear_model
 from .reference import pwl as ref
 
@@ -274,3 +277,62 @@ def fit_pwl_q16(temp, y, n_knots, units_per_c=TEMP_UNITS_PER_C, lo=None, hi=None
     resid = y - tab(temp)
     return PwlQ16(table=table, t_lo=t_lo, t_hi=t_hi, recip=recip, value_frac=vf,
                   units_per_c=scale, rms=float(np.sqrt(np.mean(resid ** 2))))
+
+
+# ---- coefficient image (section SECTION_PWL_TABLE, payload in sig_pwl.h) ----
+
+PAYLOAD_FIXED_LEN = 10
+MAX_AXES = 3
+
+
+def pwl_payload(tables):
+    """Payload bytes for 1..3 fixed-point tables sharing knots and range."""
+    tables = list(tables)
+    if not 1 <= len(tables) <= MAX_AXES:
+        raise RangeError(f"pwl image: 1..{MAX_AXES} tables, got {len(tables)}")
+    t0 = tables[0]
+    for i, t in enumerate(tables[1:], 1):
+        if (t.n_knots, t.t_lo, t.t_hi, t.recip) != (t0.n_knots, t0.t_lo, t0.t_hi, t0.recip):
+            raise RangeError(f"pwl image: table {i} has other knots or range than table 0 "
+                             f"(one section shares them)")
+    out = struct.pack("<BBhhI", len(tables), t0.n_knots, t0.t_lo, t0.t_hi, t0.recip)
+    for t in tables:
+        out += struct.pack("<B", t.value_frac) + struct.pack(f"<{t.n_knots}h", *map(int, t.table))
+    return out
+
+
+def parse_pwl_payload(payload, units_per_c=TEMP_UNITS_PER_C, where="image"):
+    """The reference reader of pwl_payload: a list of PwlQ16 (rms unknown:
+    NaN).  ModelFileError for a payload the C loader would reject."""
+    payload = bytes(payload)
+    if len(payload) < PAYLOAD_FIXED_LEN:
+        raise ModelFileError(f"{where}: table section of {len(payload)} bytes, shorter than "
+                             f"its {PAYLOAD_FIXED_LEN}-byte header")
+    axes, n, t_lo, t_hi, recip = struct.unpack_from("<BBhhI", payload)
+    if not 1 <= axes <= MAX_AXES or n < MIN_KNOTS:
+        raise ModelFileError(f"{where}: table section with {axes} axes of {n} knots")
+    stride = 1 + 2 * n
+    if len(payload) != PAYLOAD_FIXED_LEN + axes * stride:
+        raise ModelFileError(f"{where}: table section of {len(payload)} bytes, expected "
+                             f"{PAYLOAD_FIXED_LEN + axes * stride} for {axes} x {n} knots")
+    out = []
+    for a in range(axes):
+        off = PAYLOAD_FIXED_LEN + a * stride
+        vf = payload[off]
+        if not ref.params_valid_q16(n, t_lo, t_hi, recip, vf):
+            raise ModelFileError(f"{where}: table {a}: invalid parameters (t_lo {t_lo}, t_hi "
+                                 f"{t_hi}, recip {recip}, value_frac {vf})")
+        table = np.array(struct.unpack_from(f"<{n}h", payload, off + 1), dtype=np.int16)
+        out.append(PwlQ16(table=table, t_lo=t_lo, t_hi=t_hi, recip=recip, value_frac=vf,
+                          units_per_c=float(units_per_c), rms=float("nan")))
+    return out
+
+
+def pwl_image(tables, sequence=1):
+    """A complete coefficient image holding one table section."""
+    return build_image([(SECTION_PWL_TABLE, pwl_payload(tables))], sequence)
+
+
+def read_pwl_image(data, units_per_c=TEMP_UNITS_PER_C, where="image"):
+    """Tables of an image (reference reader; the firmware's is sig_pwl_load_image)."""
+    return parse_pwl_payload(find_section(data, SECTION_PWL_TABLE, where), units_per_c, where)
