@@ -23,7 +23,9 @@ Setup (every figure is a median and a worst case over --seeds seeds):
   1, P0 10); the paper's chain (preset "paper"); "adaptive": the paper's
   parameters with the lock-out fix (5 rejections) and the motion-aware mode
   (band 1 kg, ~3.5 sigma of the window mean at this noise, 2 samples);
-  "recommended": the package default (tuned on the real HX711 recording).
+  "adaptive_preset": Chain(preset="adaptive") as shipped (band 0.3 kg,
+  lock-out after 3); "recommended": the package default (tuned on the real
+  HX711 recording).
 - Settling ("the bench"): ADC noise 0.3 uV rms (2 g), the same impulses.
   The settle time is from the load change until the output is flagged
   stable and within 0.1 % of the new load, and stays within it up to the
@@ -86,6 +88,7 @@ def configs(band):
         "chain": lambda kg: chain.Chain("paper", units_per_kg=1.0).process(kg),
         "adaptive": lambda kg: chain.Chain("paper", units_per_kg=1.0, motion_band=band,
                                            **ADAPTIVE).process(kg),
+        "adaptive_preset": lambda kg: chain.Chain("adaptive", units_per_kg=1.0).process(kg),
         "recommended": lambda kg: chain.Chain("recommended", units_per_kg=1.0).process(kg),
     }
 
@@ -160,7 +163,7 @@ def settle_seed(seed, cal):
         p = LoadCellParams(**CELL, **BENCH, ringing_frac=swing, load_steps=steps,
                            duration_s=STAIR_S * len(STAIRS))
         kg = cal.to_mass(simulate(p, seed=seed + 500)["counts"])
-        for name in ("adaptive", "recommended"):
+        for name in ("adaptive", "adaptive_preset", "recommended"):
             out, stable = cfgs[name](kg)
             times = [settle_time(out, stable, STAIR_S * i, STAIR_S * (i + 1), m)
                      for i, m in enumerate(STAIRS) if i > 0]
@@ -225,7 +228,7 @@ def run(n_seeds):
                                     "rule": f"{BAND_SIGMAS:g} sigma of the anti-pulse mean, per-sample "
                                             "sigma measured on a still record at the heaviest load"},
     }
-    for n in ("raw", "kalman", "chain", "adaptive", "recommended"):
+    for n in names:
         m30, w30 = med(n, j30)
         ma, wa = med(n)
         out[f"{n}_max_err_pct_30kg"] = m30
@@ -247,7 +250,8 @@ def run(n_seeds):
         "paper_step": "10 -> 30 kg, no swing", **st,
         "staircase_kg": list(STAIRS),
         "by_swing": [{"swing_frac": sw, "load_itself_s": swing_bound(sw),
-                      **{n: stats([r[(n, sw)] for r in settle]) for n in ("adaptive", "recommended")}}
+                      **{n: stats([r[(n, sw)] for r in settle])
+                         for n in ("adaptive", "adaptive_preset", "recommended")}}
                      for sw in SWINGS]}
     no_swing = out["settle"]["by_swing"][0]
     out["paper_settle_s"] = st["chain"]["median"]
@@ -258,6 +262,9 @@ def run(n_seeds):
     out["recommended_settle_s"] = no_swing["recommended"]["median"]
     out["recommended_settle_s_worst"] = no_swing["recommended"]["worst"]
     return out
+
+
+NAMES = ("raw", "kalman", "chain", "adaptive", "adaptive_preset", "recommended")
 
 
 def f(v, nd=2):
@@ -279,19 +286,17 @@ def print_tables(o):
     print()
     print("30 kg, 20 readings | max error kg (median) | % median | % worst | paper")
     print("--- | --- | --- | --- | ---")
-    paper = {"raw": "1.86 kg / 6.2 %", "kalman": "-", "chain": "0.09 kg / 0.3 %", "adaptive": "-",
-             "recommended": "-"}
-    for n in ("raw", "kalman", "chain", "adaptive", "recommended"):
+    paper = {"raw": "1.86 kg / 6.2 %", "chain": "0.09 kg / 0.3 %"}
+    for n in NAMES:
         print(f"{n} | {o[n + '_max_err_kg_30kg']:.3f} | {o[n + '_max_err_pct_30kg']:.2f} | "
-              f"{o[n + '_max_err_pct_30kg_worst']:.2f} | {paper[n]}")
+              f"{o[n + '_max_err_pct_30kg_worst']:.2f} | {paper.get(n, '-')}")
     print(f"improvement raw -> chain at 30 kg: {o['improvement_raw_to_chain_30kg']:.1f}x (paper 20x)")
     print()
-    print("mass kg | raw % | kalman % | chain % | adaptive % | recommended %   (median / worst over seeds)")
-    print("--- | --- | --- | --- | --- | ---")
+    print("mass kg | " + " | ".join(f"{n} %" for n in NAMES) + "   (median / worst over seeds)")
+    print(" | ".join("---" for _ in range(len(NAMES) + 1)))
     for r in o["per_mass"]:
         print(f"{r['mass_kg']:.0f} | " + " | ".join(
-            f"{r[n + '_max_err_pct_median']:.2f} / {r[n + '_max_err_pct_worst']:.2f}"
-            for n in ("raw", "kalman", "chain", "adaptive", "recommended")))
+            f"{r[n + '_max_err_pct_median']:.2f} / {r[n + '_max_err_pct_worst']:.2f}" for n in NAMES))
     print(f"all masses: kalman {o['kalman_max_err_pct_all']:.2f} % (worst {o['kalman_max_err_pct_all_worst']:.2f}), "
           f"chain {o['chain_max_err_pct_all']:.2f} % (worst {o['chain_max_err_pct_all_worst']:.2f}), "
           f"adaptive {o['adaptive_max_err_pct_all']:.2f} % (worst {o['adaptive_max_err_pct_all_worst']:.2f}); "
@@ -307,7 +312,7 @@ def print_tables(o):
     for row in s["by_swing"]:
         where = (f"worst of 5 steps {'-'.join(f'{m:g}' for m in s['staircase_kg'])} kg, swing "
                  f"{row['swing_frac'] * 100:g} % of the step (the load itself needs {row['load_itself_s']:.1f} s)")
-        for n in ("adaptive", "recommended"):
+        for n in ("adaptive", "adaptive_preset", "recommended"):
             print(f"{n} | {where} | {f(row[n]['median'], 1)} | {f(row[n]['worst'], 1)} | "
                   f"{row[n]['never']}/{o['seeds']}")
 

@@ -160,3 +160,28 @@ def test_vibration_proportional_to_load():
     p0 = LoadCellParams(duration_s=10.0)
     _, e0 = excess_uv(p0, vibration_g_rms=0.01)
     assert np.all(e0 == 0)                               # nothing on an empty cell
+
+
+def test_cli_simulate_writes_the_same_run(tmp_path, capsys):
+    from pysig.cli import main
+    out = tmp_path / "run.csv"
+    argv = ["simulate", str(out), "--seed", "4", "--load-steps", "0:0,5:30,20:0",
+            "--duration-s", "30", "--noise-uv-rms", "0.3", "--impulse-rate-hz", "0.2",
+            "--impulse-amp-uv", "1500", "--impulse-polarity", "+"]
+    assert main(argv) in (0, None)
+    assert "300 samples" in capsys.readouterr().out
+    back = read_csv(out)
+    expect = simulate(LoadCellParams(load_steps=((0.0, 0.0), (5.0, 30.0), (20.0, 0.0)), duration_s=30.0,
+                                     noise_uv_rms=0.3, impulse_rate_hz=0.2, impulse_amp_uv=1500.0,
+                                     impulse_polarity="+"), seed=4)
+    np.testing.assert_array_equal(back["counts"], expect["counts"])
+    np.testing.assert_array_equal(back["ref_kg"], expect["ref_kg"])
+
+
+def test_cli_simulate_bad_options(tmp_path, capsys):
+    from pysig.cli import main
+    out = tmp_path / "run.csv"
+    assert main(["simulate", str(out), "--load-steps", "0:0,x"]) == RangeError.exit_status
+    assert "t:kg pairs" in capsys.readouterr().err
+    assert main(["simulate", str(out), "--rate-hz", "0"]) == RangeError.exit_status
+    assert not out.exists()
