@@ -195,7 +195,7 @@ def build_mcs51(sources, harness, defines=(), *, name=None, include_dirs=(),
     dflags = _defs(defines)
     inc = [f"-I{d}" for d in [CSRC, *include_dirs, harness.parent]]
     name = name or harness.stem
-    outdir = Path(outdir or BUILD_DIR / "mcs51" / f"{name}-{_key(*dflags, *sources)}")
+    outdir = Path(outdir or BUILD_DIR / "mcs51" / f"{name}-{_key(*dflags, *sources, *extra_flags)}")
     if outdir.exists():                 # a failed link leaves a stale .ihx: start clean
         shutil.rmtree(outdir)
     outdir.mkdir(parents=True)
@@ -264,14 +264,15 @@ def text_bytes(img: Image, func: str) -> int:
 
 
 # ---------------------------------------------------------------- MSP430 run --
-def _msp430_return_after_call(img: Image, target: int, caller="main") -> int:
+def _msp430_call_site(img: Image, target: int, caller="main"):
+    """(address of the first 'call #target' in caller, address after it)"""
     dis = _run([tool("llvm-objdump-14", "llvm-objdump"), "-d",
                 f"--disassemble-symbols={caller}", img.path])
     lines = [ln for ln in dis.splitlines() if re.match(r"\s+[0-9a-f]+:", ln)]
     for i, ln in enumerate(lines):
         m = re.search(r"\tcall\t#(\d+)\s*$", ln)
         if m and int(m.group(1)) == target:
-            return int(lines[i + 1].split(":")[0], 16)
+            return int(ln.split(":")[0], 16), int(lines[i + 1].split(":")[0], 16)
     raise McuError(f"no 'call #{target:#x}' in {caller} of {img.path}")
 
 
@@ -311,7 +312,7 @@ def _msp430_sp(out: str) -> int:
     m = re.findall(r"\(\s*SP: ([0-9a-f]{5})\)", out)
     if not m:
         raise McuError("no SP in mspdebug regs output:\n" + out[-2000:])
-    return int(m[0], 16)            # registers shown when the first breakpoint hit
+    return int(m[1], 16)            # registers shown at the 2nd stop: the entry
 
 
 def _stack_used(dump: bytes, base: int, top: int) -> int:
@@ -327,8 +328,11 @@ def _measure_msp430(img, funcs, regions, reads, stack):
     res = {"funcs": {}, "regions": {}, "reads": {}}
     for fn in funcs:
         entry = s[fn]
-        ret = _msp430_return_after_call(img, entry)
-        out = _mspdebug(img, [f"setbreak {entry:#x}", "run", "regs", "simio config tr clear",
+        site, ret = _msp430_call_site(img, entry)
+        # first stop at the call in main, then at the entry: other callers
+        # of fn (a batch loop before the call) are not counted
+        to_entry = [f"setbreak {site:#x}", "run", "delbreak", f"setbreak {entry:#x}", "run"]
+        out = _mspdebug(img, to_entry + ["regs", "simio config tr clear",
                               "delbreak", f"setbreak {ret:#x}", "run", "simio info tr"])
         ins, clk = _msp430_counts(out)
         row = {"instructions": ins, "cycles": clk}
@@ -336,7 +340,7 @@ def _measure_msp430(img, funcs, regions, reads, stack):
             sp = _msp430_sp(out)            # at entry: SP points at the return address
             lo = s["__bss_end"]
             n = sp - lo
-            out = _mspdebug(img, [f"setbreak {entry:#x}", "run",
+            out = _mspdebug(img, to_entry + [
                                   f"fill {lo:#x} {n} {STACK_PATTERN[0]:#x} {STACK_PATTERN[1]:#x}",
                                   "delbreak", f"setbreak {ret:#x}", "run", f"md {lo:#x} {n}"])
             row["stack_bytes"] = _stack_used(_msp430_md(out, lo, n), lo, sp + 2)
@@ -367,13 +371,14 @@ def _s51(img: Image, script, cpu="C52") -> str:
                  "-e", "\n".join(list(script) + ["quit"]), img.path])
 
 
-def _mcs51_return_after_call(img: Image, fn: str) -> int:
+def _mcs51_call_site(img: Image, fn: str):
+    """(address of the first 'lcall _fn' in the main module's listing, return address)"""
     pat = re.compile(r"^\s+([0-9A-F]{6}) 12 [0-9A-F]{2} [0-9A-F]{2}\s.*\blcall\s+_%s\s*$" % fn)
     for rst in sorted(img.path.parent.glob("*.rst")):
         for line in open(rst):
             m = pat.match(line)
             if m:
-                return int(m.group(1), 16) + 3
+                return int(m.group(1), 16), int(m.group(1), 16) + 3
     raise McuError(f"no 'lcall _{fn}' in the .rst listings of {img.path}")
 
 
@@ -394,13 +399,13 @@ def _mcs51_sp(out: str) -> int:
     return int(m[-1], 16)
 
 
-def _mcs51_1t(img, entry, n_instructions, cpu, chunk=9000):
+def _mcs51_1t(img, to_entry, n_instructions, cpu, chunk=9000):
     """Opcode histogram of one call (s51 execution history, stepped in chunks
     that fit its 10000-entry ring) weighed with the per-opcode tables of
     mcs51/timing.py."""
     sys.path.insert(0, str(MCU_DIR / "mcs51"))
     import timing          # noqa: E402  (bench/mcu/mcs51/timing.py)
-    script = [f"break {entry:#x}", "run"]
+    script = list(to_entry)
     left = n_instructions
     while left > 0:
         k = min(chunk, left)
@@ -414,11 +419,12 @@ def _measure_mcs51(img, funcs, regions, reads, stack, one_t=True, cpu="C52"):
     res = {"funcs": {}, "regions": {}, "reads": {}}
     for fn in funcs:
         entry = s["_" + fn][1]
-        ret = _mcs51_return_after_call(img, fn)
-        script = [f"break {entry:#x}", "run", "state"]
+        site, ret = _mcs51_call_site(img, fn)
+        to_entry = [f"break {site:#x}", "run", "delete", f"break {entry:#x}", "run"]
+        script = to_entry + ["state"]
         sp = None
         if stack:   # internal RAM above SP is free: paint it, find the highest byte touched
-            sp = _mcs51_sp(_s51(img, [f"break {entry:#x}", "run", "dump /h sfr 0x81 0x81"], cpu))
+            sp = _mcs51_sp(_s51(img, to_entry + ["dump /h sfr 0x81 0x81"], cpu))
             script += [f"fill iram {sp + 1:#x} 0xff {STACK_PATTERN[0]:#x}"]
         script += [f"break {ret:#x}", "run", "state"]
         if stack:
@@ -430,7 +436,7 @@ def _measure_mcs51(img, funcs, regions, reads, stack, one_t=True, cpu="C52"):
             hi = max([i for i, b in enumerate(dump) if b != STACK_PATTERN[0]], default=-1)
             row["stack_bytes"] = hi + 1 + 2      # + the 2-byte return address at SP-1..SP
         if one_t:
-            w = _mcs51_1t(img, entry, row["instructions"], cpu)
+            w = _mcs51_1t(img, to_entry, row["instructions"], cpu)
             if w["instructions"] != row["instructions"] or w["clocks_12T"] != row["cycles"]:
                 raise McuError(f"{fn}: opcode histogram x 8051 table = {w}, s51 counted {row}")
             row["clocks_1t_stc_y5"] = w["clocks_stc_y5"]
@@ -482,8 +488,10 @@ def profile(img: Image, func: str, n_instructions: int) -> list[dict]:
     starts = [a for a, _ in funcs]
     import bisect
     entry = img.symbols[func]
-    out = _mspdebug(img, [f"setbreak {entry:#x}", "run", "delbreak"] + ["step"] * n_instructions)
-    pcs = [int(p, 16) for p in re.findall(r"\(\s*PC: ([0-9a-f]{5})\)", out)]
+    site, _ = _msp430_call_site(img, entry)
+    out = _mspdebug(img, [f"setbreak {site:#x}", "run", "delbreak", f"setbreak {entry:#x}", "run",
+                          "delbreak"] + ["step"] * n_instructions)
+    pcs = [int(p, 16) for p in re.findall(r"\(\s*PC: ([0-9a-f]{5})\)", out)][1:]
     rows = {}
     for pc in pcs[:n_instructions]:           # the first PC is the entry: executed next
         i = bisect.bisect_right(starts, pc) - 1
@@ -493,3 +501,47 @@ def profile(img: Image, func: str, n_instructions: int) -> list[dict]:
         if i >= 0 and pc == funcs[i][0]:
             r["calls"] += 1
     return sorted(rows.values(), key=lambda r: -r["instructions"])
+
+
+def code_closure(img: Image, func: str) -> dict:
+    """MSP430: every function reachable from `func` through calls and tail
+    branches, with its size in bytes: {name: bytes}.  Runtime helpers (names
+    starting with '__' and mem*) are included; split them with is_helper()."""
+    if img.target != "msp430":
+        raise McuError("code_closure() is for MSP430 images")
+    dis = _run([tool("llvm-objdump-14", "llvm-objdump"), "-d", img.path])
+    by_addr = {a: n for n, a in img.symbols.items() if img.sizes.get(n, 0) > 0}
+    calls, cur = {}, None
+    for line in dis.splitlines():
+        m = re.match(r"^([0-9a-f]+) <([^>]+)>:", line)
+        if m:
+            cur = m.group(2)
+            calls.setdefault(cur, set())
+            continue
+        m = re.search(r"\t(?:call|br)\t#(\d+)\s*$", line)
+        if m and cur and int(m.group(1)) in by_addr:
+            calls[cur].add(by_addr[int(m.group(1))])
+    seen, todo = {}, [func]
+    while todo:
+        f = todo.pop()
+        if f in seen:
+            continue
+        seen[f] = img.sizes.get(f, 0)
+        todo.extend(calls.get(f, ()))
+    return seen
+
+
+def is_helper(name: str) -> bool:
+    return name.startswith("__") or name in ("memcpy", "memset", "memmove")
+
+
+def symbol_size(img: Image, name: str) -> int:
+    """bytes of a data symbol (MSP430: ELF size; 8051: not available -> KeyError)"""
+    return img.sizes[name]
+
+
+def mcs51_module_sizes(img: Image, module: str) -> dict:
+    """Area sizes of one module's .rel (CSEG code, CONST, XSEG/DSEG/OSEG data)."""
+    text = (img.path.parent / f"{module}.rel").read_text()
+    return {m.group(1): int(m.group(2), 16)
+            for m in re.finditer(r"^A (\S+) size ([0-9A-F]+)", text, re.M)}
