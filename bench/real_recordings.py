@@ -15,6 +15,7 @@ JSON: {"rows": [...loaded-channel rows...], "zero_rows": [...],
 "calibration": {...}, "definitions": {...}, "source": ...}.
 """
 import argparse
+import hashlib
 import json
 import os
 import sys
@@ -66,7 +67,10 @@ def run(csv_path, plot_dir=None):
             recording.plot_channel(Path(plot_dir) / f"hx711_{ch}.png", t, res,
                                    f"hx711_steps_10hz {ch}: no load (lb with lc1's sensitivity)",
                                    nominal=False)
-    return {"source": str(csv_path), "rows": rows, "zero_rows": zero_rows, "calibration": cals,
+    digest = hashlib.sha256(Path(csv_path).read_bytes()).hexdigest()
+    return {"source": {"file": Path(csv_path).name, "sha256": digest,
+                       "origin": "github.com/mvsivaselvan/CIE324-Swing-Project (MIT)"},
+            "rows": rows, "zero_rows": zero_rows, "calibration": cals,
             "definitions": recording.METRICS}
 
 
