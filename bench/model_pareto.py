@@ -397,16 +397,21 @@ def plot(rows, summary, directory):
 
 
 def main(argv=None):
+    global N_BLOCKS
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--json", help="write rows and summary as JSON here")
     ap.add_argument("--plot", help="write pareto_<dataset>.png into this directory")
     ap.add_argument("--datasets", default="mpu6000,chamber",
                     help="comma-separated: mpu6000 (real curve), chamber (simulated)")
+    ap.add_argument("--blocks", type=int, default=N_BLOCKS,
+                    help=f"temperature blocks of the cross-validation (default {N_BLOCKS}; "
+                         f"the two end blocks are never held out)")
     ap.add_argument("--no-mcu", action="store_true",
                     help="skip the MSP430 builds (cycles, text bytes, energy left empty)")
     args = ap.parse_args(argv)
     if args.plot and args.no_mcu:
         ap.error("--plot needs the MCU cycles (drop --no-mcu)")
+    N_BLOCKS = args.blocks
     rows, summary = [], []
     for name, (curve, unit) in datasets(args.datasets.split(",")).items():
         print(f"{name}: fitting, cross-validating and measuring ...", file=sys.stderr)
