@@ -37,10 +37,24 @@ def _tools(target):
             require_tool(t)
 
 
-def _build(target, sources, harness, defines, gen, hwmult=True):
+# sdcc --model-large alone does not link csrc/sig_tcomp.c + sig_poly.c: their
+# spill temporaries overflow the 8051's 128-byte direct RAM (DSEG).  With
+# --stack-auto they live on the stack instead (bench/mcu/README.md).
+MCS51_TCOMP_FLAGS = ["--stack-auto"]
+
+# The chain does not link for the 8051 in either model (measured: 592 bytes
+# of DSEG demand; with --stack-auto the stack passes 0xFF).  Strict xfail: the
+# day csrc/ fits, these tests pass and the marker must go.
+CHAIN_8051 = pytest.param("mcs51", marks=pytest.mark.xfail(
+    raises=runner.McuError, strict=True,
+    reason="csrc chain modules need more 8051 internal RAM than exists (see README)"))
+
+
+def _build(target, sources, harness, defines, gen, hwmult=True, mcs51_flags=()):
     if target == "msp430":
         return runner.build_msp430(sources, harness, defines, hwmult=hwmult, include_dirs=[gen])
-    return runner.build_mcs51(sources, harness, defines, include_dirs=[gen])
+    return runner.build_mcs51(sources, harness, defines, include_dirs=[gen],
+                              extra_flags=mcs51_flags)
 
 
 def _run(img, reads):
@@ -67,7 +81,8 @@ def test_tcomp_fixed_firmware_equals_host_and_reference(target, hwmult, order, t
     from pysig.reference import tcomp as ref
     case = vectors.tcomp_case(order)
     vectors.write_tcomp_header(case, tmp_path / "tcomp_vectors.h")
-    img = _build(target, TCOMP_SRC, HARNESS / "tcomp_harness.c", [], tmp_path, hwmult)
+    img = _build(target, TCOMP_SRC, HARNESS / "tcomp_harness.c", [], tmp_path, hwmult,
+                 MCS51_TCOMP_FLAGS)
     n, a = case.in_q.shape
     r = _run(img, {"vec_out": 2 * n * a, "vec_status": 2 * n, "init_status": 2})
     assert struct.unpack("<h", r["init_status"])[0] == 0
@@ -95,7 +110,8 @@ def test_tcomp_float_firmware_within_tolerance(target, tmp_path):
     from pysig.reference import tcomp as ref
     case = vectors.tcomp_case(2)
     vectors.write_tcomp_header(case, tmp_path / "tcomp_vectors.h")
-    img = _build(target, TCOMP_SRC, HARNESS / "tcomp_harness.c", ["BENCH_FLOAT"], tmp_path)
+    img = _build(target, TCOMP_SRC, HARNESS / "tcomp_harness.c", ["BENCH_FLOAT"], tmp_path,
+                 mcs51_flags=MCS51_TCOMP_FLAGS)
     n, a = case.in_q.shape
     r = _run(img, {"vec_out": 4 * n * a, "vec_status": 2 * n, "init_status": 2})
     assert struct.unpack("<h", r["init_status"])[0] == 0
@@ -121,7 +137,9 @@ def _chain_reads(img, n, real):
         np.frombuffer(r["vec_status"], "<i2")
 
 
-@pytest.mark.parametrize("target,hwmult", [("msp430", True), ("msp430", False), ("mcs51", None)],
+@pytest.mark.parametrize("target,hwmult", [("msp430", True), ("msp430", False),
+                                           pytest.param(*CHAIN_8051.values, None,
+                                                        marks=CHAIN_8051.marks)],
                          ids=["msp430-hw", "msp430-sw", "mcs51"])
 def test_chain_fixed_firmware_equals_host_and_reference(target, hwmult, tmp_path):
     _tools(target)
@@ -139,7 +157,7 @@ def test_chain_fixed_firmware_equals_host_and_reference(target, hwmult, tmp_path
     assert fw_stable.any() and (fw_st != 0).any()    # settles, and rejects the impulses
 
 
-@pytest.mark.parametrize("target", ["msp430", "mcs51"])
+@pytest.mark.parametrize("target", ["msp430", CHAIN_8051])
 def test_chain_float_firmware_within_tolerance(target, tmp_path):
     _tools(target)
     from pysig.chain import Chain
