@@ -70,12 +70,14 @@ sig_status sig_antipulse_step_f(sig_antipulse_f *s, sig_real x, sig_real *out)
     if (s->count == 1u) {
         s->mx = s->mn = x;
     } else if (full && (old == s->mx || old == s->mn)) {
-        s->mx = s->mn = s->buf[0];
+        sig_real mx = s->buf[0], mn = s->buf[0];     /* locals: kept in registers */
         for (i = 1u; i < s->count; i++) {
             v = s->buf[i];
-            if (v > s->mx) s->mx = v;
-            if (v < s->mn) s->mn = v;
+            mx = v > mx ? v : mx;
+            mn = v < mn ? v : mn;
         }
+        s->mx = mx;
+        s->mn = mn;
     } else {
         if (x > s->mx) s->mx = x;
         if (x < s->mn) s->mn = x;
@@ -134,12 +136,14 @@ sig_status sig_antipulse_step_q(sig_antipulse_q *s, int32_t x, int32_t *out)
     if (s->count == 1u) {
         s->mx = s->mn = x;
     } else if (full && (old == s->mx || old == s->mn)) {
-        s->mx = s->mn = s->buf[0];
+        int32_t mx = s->buf[0], mn = s->buf[0];     /* locals: kept in registers */
         for (i = 1u; i < s->count; i++) {
             v = s->buf[i];
-            if (v > s->mx) s->mx = v;
-            if (v < s->mn) s->mn = v;
+            mx = v > mx ? v : mx;
+            mn = v < mn ? v : mn;
         }
+        s->mx = mx;
+        s->mn = mn;
     } else {
         if (x > s->mx) s->mx = x;
         if (x < s->mn) s->mn = x;
