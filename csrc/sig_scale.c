@@ -61,11 +61,10 @@ sig_status sig_scale_apply_q16(const sig_scale_q16 *s, int32_t counts, int32_t *
     int32_t d;
     if (s == NULL || mass_q16 == NULL) return SIG_ERR_ARG;
     d = sig_sat_sub32(counts, s->offset);
-    if (d == INT32_MAX || d == INT32_MIN) {
-        /* a rail value may be exact; flag only a true overflow */
-        saturated = (counts > 0 && s->offset < 0 && counts > INT32_MAX + s->offset)
-                 || (counts < 0 && s->offset > 0 && counts < INT32_MIN + s->offset);
-    }
+    /* d is exact unless counts - offset leaves int32 (a rail value may be exact);
+     * INT32_MAX + offset and INT32_MIN + offset cannot overflow on these sides */
+    saturated = (s->offset < 0 && counts > INT32_MAX + s->offset)
+             || (s->offset > 0 && counts < INT32_MIN + s->offset);
     *mass_q16 = mul_shift_sat(d, s->gain_mant, s->gain_shift, &saturated);
     return saturated ? SIG_WARN_SATURATED : SIG_OK;
 }
