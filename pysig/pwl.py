@@ -96,7 +96,7 @@ class PwlQ16:
             / self.units_per_c
 
     def temp_int(self, temp_c):
-        """°C -> the int16 temperature unit (round half away from zero, saturated)."""
+        """°C -> the int16 temperature unit (rounded, saturated)."""
         return temp_to_int(temp_c, self.units_per_c)
 
     def eval_c(self, temp_int):
@@ -111,11 +111,12 @@ class PwlQ16:
 
 
 def temp_to_int(temp_c, units_per_c):
-    """°C -> int16 temperature units: round half away from zero, saturated."""
+    """°C -> int16 temperature units: rounded to nearest (half to even, as
+    pysig.quant.to_centi), saturated to int16 (the C then clamps and flags)."""
     x = np.asarray(temp_c, dtype=float) * float(units_per_c)
     if not np.all(np.isfinite(x)):
         raise NonFiniteError("pwl: non-finite temperature")
-    return np.clip(np.sign(x) * np.floor(np.abs(x) + 0.5), -32768, 32767).astype(np.int16)
+    return np.clip(np.rint(x), -32768, 32767).astype(np.int16)
 
 
 def _check_data(temp, y, what):
