@@ -213,6 +213,40 @@ def _dseg_demand(mcs51_dir: Path) -> dict:
     return out
 
 
+def tcomp_fast_row(order: int, vdd: float) -> dict:
+    """EXPERIMENT (bench/mcu/experiments/tcomp_fast.c): the same compensation,
+    bit-exact, spelt for the MSP430 (inline 16x16 multiplier access, word-wise
+    shifts).  Shows what a csrc/ change along these lines buys."""
+    case = vectors.tcomp_case(order)
+    gen = runner.BUILD_DIR / "gen" / f"tcomp-o{order}"
+    vectors.write_tcomp_header(case, gen / "tcomp_vectors.h")
+    exp = ROOT / "bench" / "mcu" / "experiments"
+    img = runner.build_msp430(TCOMP_SRC + [exp / "tcomp_fast.c"], exp / "tcomp_fast_harness.c",
+                              {"TCOMP_FAST_MPY_BASE": runner.MSP430_MPY_BASE_SIM}, hwmult=True,
+                              include_dirs=[gen], name=f"tcomp-fast-o{order}")
+    n, a = case.in_q.shape
+    r = runner.measure(img, funcs=["tcomp_fast_apply_q"], regions=["bench_start:bench_stop"],
+                       reads={"vec_out": 2 * n * a, "vec_status": 2 * n})
+    from pysig._tcomp import TcompQ
+    host = TcompQ.from_fields(case.coef_q, case.q, case.t_lo, case.t_hi, case.t_center,
+                              case.t0, case.u_mul, case.u_shift)
+    h_out, h_st = host.apply(case.t_q, case.in_q)
+    if not (np.array_equal(_i16(r["reads"]["vec_out"]).reshape(n, a), h_out)
+            and np.array_equal(_i16(r["reads"]["vec_status"]), h_st)):
+        raise SystemExit("tcomp_fast: results differ from the host C")
+    one = r["funcs"]["tcomp_fast_apply_q"]
+    clos = runner.code_closure(img, "tcomp_fast_apply_q")
+    t_us = one["cycles"] / MCLK_HZ * 1e6
+    return {"target": "msp430f5510", "form": "fixed (experiment: tcomp_fast.c)", "order": order,
+            "multiplier": "hw inline (16x16 MPY at 0x0130 in the simulator)",
+            "text_bytes": sum(v for k, v in clos.items() if not runner.is_helper(k)),
+            "stack_bytes": one["stack_bytes"], "cycles": one["cycles"],
+            "instructions": one["instructions"],
+            "cycles_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
+            "time_us": round(t_us, 2), "energy_uj": round(I_ACTIVE_A * vdd * t_us, 4),
+            "checked_vectors": n}
+
+
 def tcomp_row_mcs51(order: int) -> dict:
     """Compensation on the 8051 for reference: --model-large does not link
     (internal RAM), so this build adds --stack-auto (locals on the stack)."""
@@ -311,8 +345,13 @@ def main(argv=None):
     print("\nTargets:")
     for c in checks:
         print(f"  {'MET ' if c['met'] else 'MISS'} {c['target']}: {c['measured']}")
-    profiles = {}
+    profiles, experiment = {}, None
     if checks and not checks[0]["met"]:
+        experiment = tcomp_fast_row(2, a.vdd)
+        print(f"  what it would take - bench/mcu/experiments/tcomp_fast.c (bit-exact, inline "
+              f"multiplier, word-wise shifts): {experiment['cycles']} cycles, "
+              f"{experiment['text_bytes']} B; float/this = "
+              f"{pick('float', 2)['cycles'] / experiment['cycles']:.1f}x")
         img = runner.build_msp430(TCOMP_SRC, HARNESS / "tcomp_harness.c", [], hwmult=True,
                                   include_dirs=[runner.BUILD_DIR / "gen" / "tcomp-o2"],
                                   name="tcomp-o2-fixed")
@@ -330,6 +369,7 @@ def main(argv=None):
                      "mcs51_sim": "ucsim s51 0.6.4 -t C52 (12T); 1T estimate = opcode histogram "
                                   "x STC-Y5 published clocks (bench/mcu/mcs51/timing.py)"},
             "table1": t1, "table2": t2, "mcs51_tcomp": t3, "targets": checks,
+            "experiment_tcomp_fast": experiment,
             "profiles": profiles}, indent=1))
         print(f"\nwrote {a.json}")
 

@@ -171,3 +171,24 @@ def test_chain_float_firmware_within_tolerance(target, tmp_path):
     # the stability flag is a threshold decision on the output: allow a flip
     # only where the host output sits within float32 reach of the threshold
     assert (fw_stable != stable).sum() <= 2
+
+
+@pytest.mark.parametrize("order,amplitude", [(2, 300.0), (5, 300.0), (3, 2e4)])
+def test_tcomp_fast_experiment_is_bit_exact(order, amplitude, tmp_path):
+    """bench/mcu/experiments/tcomp_fast.c (the 'what it would take' figure of
+    bench/mcu_cost.py) computes exactly sig_tcomp_apply_q."""
+    _tools("msp430")
+    from pysig._tcomp import TcompQ
+    case = vectors.tcomp_case(order, seed=3, amplitude=amplitude)   # 2e4: q < 16 path
+    vectors.write_tcomp_header(case, tmp_path / "tcomp_vectors.h")
+    exp = ROOT / "bench" / "mcu" / "experiments"
+    img = runner.build_msp430(TCOMP_SRC + [exp / "tcomp_fast.c"], exp / "tcomp_fast_harness.c",
+                              {"TCOMP_FAST_MPY_BASE": runner.MSP430_MPY_BASE_SIM}, hwmult=True,
+                              include_dirs=[tmp_path])
+    n, a = case.in_q.shape
+    r = _run(img, {"vec_out": 2 * n * a, "vec_status": 2 * n})
+    host = TcompQ.from_fields(case.coef_q, case.q, case.t_lo, case.t_hi, case.t_center, case.t0,
+                              case.u_mul, case.u_shift)
+    h_out, h_st = host.apply(case.t_q, case.in_q)
+    np.testing.assert_array_equal(np.frombuffer(r["vec_out"], "<i2").reshape(n, a), h_out)
+    np.testing.assert_array_equal(np.frombuffer(r["vec_status"], "<i2"), h_st)

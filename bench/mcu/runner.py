@@ -165,7 +165,7 @@ def build_msp430(sources, harness, defines=(), *, hwmult=True, name=None,
     inc = [f"-I{d}" for d in [CSRC, *include_dirs, harness.parent]]
     name = name or harness.stem
     outdir = Path(outdir or BUILD_DIR / "msp430" /
-                  f"{name}-{'hw' if hwmult else 'sw'}-{_key(*dflags, *sources)}")
+                  f"{name}-{'hw' if hwmult else 'sw'}-{_key(*dflags, *sources, *inc)}")
     if outdir.exists():
         shutil.rmtree(outdir)
     outdir.mkdir(parents=True)
@@ -195,7 +195,7 @@ def build_mcs51(sources, harness, defines=(), *, name=None, include_dirs=(),
     dflags = _defs(defines)
     inc = [f"-I{d}" for d in [CSRC, *include_dirs, harness.parent]]
     name = name or harness.stem
-    outdir = Path(outdir or BUILD_DIR / "mcs51" / f"{name}-{_key(*dflags, *sources, *extra_flags)}")
+    outdir = Path(outdir or BUILD_DIR / "mcs51" / f"{name}-{_key(*dflags, *sources, *inc, *extra_flags)}")
     if outdir.exists():                 # a failed link leaves a stale .ihx: start clean
         shutil.rmtree(outdir)
     outdir.mkdir(parents=True)

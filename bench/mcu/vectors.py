@@ -84,14 +84,15 @@ class TcompCase:
         return f32(self.in_q)
 
 
-def tcomp_case(order: int, n_axes: int = 3, n: int = 50, seed: int = 0) -> TcompCase:
+def tcomp_case(order: int, n_axes: int = 3, n: int = 50, seed: int = 0,
+               amplitude: float = 300.0) -> TcompCase:
     """A drift polynomial of a few hundred LSB per axis, quantised the way
     sig_tcomp.h asks (q as large as possible with sum |c| < 2^31), and n
     temperature/reading pairs: mostly inside the range, some outside (clamp),
     a few readings near the int16 rails (saturation)."""
     rng = np.random.default_rng(1000 * order + seed)
     k = np.arange(order + 1)
-    coef = rng.uniform(-300.0, 300.0, size=(n_axes, order + 1)) / np.maximum(k, 1)
+    coef = rng.uniform(-amplitude, amplitude, size=(n_axes, order + 1)) / np.maximum(k, 1)
     q = np.array([min(30, int(np.floor(np.log2((2**31 - 1) / np.abs(c).sum()))) - 1)
                   for c in coef])
     coef_q = np.round(coef * 2.0 ** q[:, None]).astype(np.int64)
