@@ -227,15 +227,22 @@ def analyse_zero(t, counts, lb_per_count, configs=CONFIGS, backend=None):
 
 
 def plot_channel(path, t, result, title, configs=CONFIGS, nominal=True):
-    """PNG: raw, each configuration, nominal levels, stability flags."""
+    """PNG: raw, each configuration, nominal levels, stability flags; for a
+    loaded channel also a close-up of the step the recommended chain takes
+    longest to settle on, with the +-SETTLE_BAND_LB band."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    t = np.asarray(t, dtype=float)
     lb = result["lb"]
     glitches = result["glitches"]
-    fig, (ax, axs) = plt.subplots(2, 1, figsize=(11, 6), sharex=True,
-                                  gridspec_kw={"height_ratios": [5, 1]})
+    zoom = nominal and "plateaus" in result and "recommended" in result["rows"]
+    fig = plt.figure(figsize=(13 if zoom else 11, 6))
+    grid = fig.add_gridspec(2, 2 if zoom else 1, height_ratios=[5, 1],
+                            width_ratios=[3, 1] if zoom else None)
+    ax = fig.add_subplot(grid[0, 0])
+    axs = fig.add_subplot(grid[1, 0], sharex=ax)
     colors = {"raw": "0.7", "paper_chain": "tab:red", "kalman": "tab:orange", "recommended": "tab:blue"}
     ok = np.ones(lb.size, dtype=bool)
     ok[glitches] = False
@@ -255,7 +262,7 @@ def plot_channel(path, t, result, title, configs=CONFIGS, nominal=True):
             ax.hlines(p.nominal, t[p.start], t[p.stop - 1], colors="k", linestyles="--", lw=0.8)
         ax.plot([], [], "k--", lw=0.8, label="nominal level (found plateaus)")
     ax.set_ylabel("lb")
-    ax.set_title(title)
+    ax.set_title(title, fontsize=10)
     ax.legend(loc="upper right", fontsize=8)
     ax.grid(alpha=0.3)
     rows = [c for c in configs if result["outputs"][c][1] is not None]
@@ -264,9 +271,37 @@ def plot_channel(path, t, result, title, configs=CONFIGS, nominal=True):
         axs.fill_between(t, i, i + 0.8 * stable, step="post", color=colors[config], alpha=0.7)
     axs.set_yticks([i + 0.4 for i in range(len(rows))], [f"{c} stable" for c in rows], fontsize=7)
     axs.set_xlabel("t (s)")
+    if zoom:
+        _plot_zoom(fig.add_subplot(grid[:, 1]), t, result, colors)
     fig.tight_layout()
     try:
         with atomic_output(path, "wb") as fh:
             fig.savefig(fh, format="png", dpi=110)
     finally:
         plt.close(fig)
+
+
+def _plot_zoom(ax, t, result, colors):
+    settle = result["rows"]["recommended"]["settle_s"]
+    known = [(s, k) for k, s in enumerate(settle) if s is not None]
+    k = (max(known)[1] if known else 0) + 1          # plateau index after the slowest step
+    plateaus, level = result["plateaus"], result["levels_lb"][k]
+    a = plateaus[k - 1].stop - int(2 * RATE_HZ)
+    b = min(plateaus[k].stop, plateaus[k - 1].stop + int(12 * RATE_HZ))
+    sl = slice(max(a, 0), b)
+    for config in ("raw", "paper_chain", "recommended"):
+        if config in result["outputs"]:
+            ax.plot(t[sl], result["outputs"][config][0][sl], color=colors[config],
+                    lw=0.8 if config == "raw" else 1.4)
+    ax.axhspan(level - SETTLE_BAND_LB, level + SETTLE_BAND_LB, color="tab:green", alpha=0.25,
+               label=f"level +-{SETTLE_BAND_LB} lb")
+    t0 = t[plateaus[k - 1].stop]
+    ax.axvline(t0, color="k", lw=0.8, ls=":", label="previous plateau ends")
+    if settle[k - 1] is not None:
+        ax.axvline(t0 + settle[k - 1], color="tab:blue", lw=0.8, ls=":",
+                   label=f"recommended settled: {settle[k - 1]:.1f} s")
+    ax.set_ylim(level - 0.6, level + 0.6)
+    ax.set_title(f"close-up: step to {plateaus[k].nominal:g} lb", fontsize=9)
+    ax.set_xlabel("t (s)")
+    ax.legend(loc="lower right", fontsize=7)
+    ax.grid(alpha=0.3)
