@@ -25,7 +25,8 @@ Setup (every figure is a median and a worst case over --seeds seeds):
   (band 1 kg, ~3.5 sigma of the window mean at this noise, 2 samples);
   "adaptive_preset": Chain(preset="adaptive") as shipped (band 0.3 kg,
   lock-out after 3); "recommended": the package default (tuned on the real
-  HX711 recording).
+  HX711 recording); chain_fixed / adaptive_fixed: the same chains in the
+  firmware's fixed-point form on integer codes.
 - Settling ("the bench"): ADC noise 0.3 uV rms (2 g), the same impulses.
   The settle time is from the load change until the output is flagged
   stable and within 0.1 % of the new load, and stays within it up to the
@@ -80,6 +81,14 @@ def motion_band_for(kg_still, window=12):
     return BAND_SIGMAS * weighing.noise_sigma(kg_still) / np.sqrt(window - 2)
 
 
+def fixed_chain(kg, preset, **overrides):
+    """The firmware's fixed-point chain on integer codes rint(kg * counts/kg):
+    the ADC codes less the calibrated zero, as the MCU would filter them."""
+    cpk = LoadCellParams().counts_per_kg
+    out, stable = chain.Chain(preset, fixed=True, units_per_kg=cpk, **overrides).process(np.rint(kg * cpk))
+    return out / cpk, stable
+
+
 def configs(band):
     """name -> function(kg array) -> (out kg, stable or None); fresh state per call."""
     return {
@@ -89,6 +98,8 @@ def configs(band):
         "adaptive": lambda kg: chain.Chain("paper", units_per_kg=1.0, motion_band=band,
                                            **ADAPTIVE).process(kg),
         "adaptive_preset": lambda kg: chain.Chain("adaptive", units_per_kg=1.0).process(kg),
+        "chain_fixed": lambda kg: fixed_chain(kg, "paper"),
+        "adaptive_fixed": lambda kg: fixed_chain(kg, "paper", motion_band=band, **ADAPTIVE),
         "recommended": lambda kg: chain.Chain("recommended", units_per_kg=1.0).process(kg),
     }
 
@@ -163,7 +174,7 @@ def settle_seed(seed, cal):
         p = LoadCellParams(**CELL, **BENCH, ringing_frac=swing, load_steps=steps,
                            duration_s=STAIR_S * len(STAIRS))
         kg = cal.to_mass(simulate(p, seed=seed + 500)["counts"])
-        for name in ("adaptive", "adaptive_preset", "recommended"):
+        for name in ("adaptive", "adaptive_fixed", "adaptive_preset", "recommended"):
             out, stable = cfgs[name](kg)
             times = [settle_time(out, stable, STAIR_S * i, STAIR_S * (i + 1), m)
                      for i, m in enumerate(STAIRS) if i > 0]
@@ -251,7 +262,7 @@ def run(n_seeds):
         "staircase_kg": list(STAIRS),
         "by_swing": [{"swing_frac": sw, "load_itself_s": swing_bound(sw),
                       **{n: stats([r[(n, sw)] for r in settle])
-                         for n in ("adaptive", "adaptive_preset", "recommended")}}
+                         for n in ("adaptive", "adaptive_fixed", "adaptive_preset", "recommended")}}
                      for sw in SWINGS]}
     no_swing = out["settle"]["by_swing"][0]
     out["paper_settle_s"] = st["chain"]["median"]
@@ -264,7 +275,8 @@ def run(n_seeds):
     return out
 
 
-NAMES = ("raw", "kalman", "chain", "adaptive", "adaptive_preset", "recommended")
+NAMES = ("raw", "kalman", "chain", "chain_fixed", "adaptive", "adaptive_fixed", "adaptive_preset",
+         "recommended")
 
 
 def f(v, nd=2):
@@ -312,7 +324,7 @@ def print_tables(o):
     for row in s["by_swing"]:
         where = (f"worst of 5 steps {'-'.join(f'{m:g}' for m in s['staircase_kg'])} kg, swing "
                  f"{row['swing_frac'] * 100:g} % of the step (the load itself needs {row['load_itself_s']:.1f} s)")
-        for n in ("adaptive", "adaptive_preset", "recommended"):
+        for n in ("adaptive", "adaptive_fixed", "adaptive_preset", "recommended"):
             print(f"{n} | {where} | {f(row[n]['median'], 1)} | {f(row[n]['worst'], 1)} | "
                   f"{row[n]['never']}/{o['seeds']}")
 

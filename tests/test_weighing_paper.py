@@ -70,3 +70,13 @@ def test_json_fields(figures):
         assert key in figures
     assert [r["mass_kg"] for r in figures["per_mass"]] == [5.0 * k for k in range(1, 11)]
     json.dumps(figures)                                          # serialisable as written
+
+
+def test_fixed_point_chain_reproduces_the_float_figures(figures):
+    """The firmware's fixed-point form on integer codes: the same figures
+    within 0.02 percentage points, the same settling."""
+    for n in ("chain", "adaptive"):
+        assert figures[f"{n}_fixed_max_err_pct_30kg"] == pytest.approx(figures[f"{n}_max_err_pct_30kg"], abs=0.02)
+        assert figures[f"{n}_fixed_max_err_pct_all"] == pytest.approx(figures[f"{n}_max_err_pct_all"], abs=0.02)
+    no_swing = figures["settle"]["by_swing"][0]
+    assert no_swing["adaptive_fixed"]["worst"] <= 2.0
