@@ -150,6 +150,13 @@ sig_status sig_chain_set_offset_f(sig_chain_f *c, sig_real offset)
 
 /* ---- fixed point ---------------------------------------------------------- */
 
+/* codes (|m| <= SIG_CODE_MAX) to Q24.7: m * 128 exactly, by a shift of the
+ * magnitude (no multiply, no shift of a negative value). */
+static int32_t codes_to_q7(int32_t m)
+{
+    return m >= 0 ? (int32_t)((uint32_t)m << 7) : -(int32_t)((uint32_t)-m << 7);
+}
+
 static bool params_ok_q(const sig_chain_params_q *p)
 {
     return p->a0 > 0 && p->window >= 3u && p->window <= SIG_ANTIPULSE_MAX
@@ -204,7 +211,7 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
         c->motion_run = 0u;
     }
     (void)sig_antipulse_step_q(&c->ap, y, &m);
-    m7 = m * INT32_C(128);                       /* |m| <= 2^24 - 1: fits */
+    m7 = codes_to_q7(m);
     if (c->motion_band > 0 && c->kf.seeded) {
         if (sig_abs32_sat(sig_sat_sub32(m7, c->kf.x)) > c->motion_band) {
             if (c->motion_run < 255u) c->motion_run++;
@@ -214,7 +221,7 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
         if (c->motion_run >= c->motion_count) {
             (void)sig_antipulse_reset_q(&c->ap);
             (void)sig_antipulse_step_q(&c->ap, y, &m);
-            m7 = m * INT32_C(128);
+            m7 = codes_to_q7(m);
             (void)sig_kalman1_restart_q(&c->kf);
             c->motion_run = 0u;
             ret = (sig_status)(ret | SIG_CHAIN_MOTION);
