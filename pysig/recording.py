@@ -49,9 +49,9 @@ ZERO_TAIL_S = 3.0           # ... and this much before its end
 
 METRICS = {
     "glitches_passed": "read glitches (samples > 50 noise sigma from the 5-sample running median) after "
-                       f"which, within {GLITCH_WINDOW} samples, the output leaves by more than "
-                       f"{GLITCH_BAND_LB} lb the range that the same configuration outputs within "
-                       f"+-{GLITCH_WINDOW} samples when each glitch is replaced by the running median",
+                       f"which, within {GLITCH_WINDOW} samples, the output leaves towards the glitch by "
+                       f"more than {GLITCH_BAND_LB} lb the range that the same configuration outputs "
+                       f"within +-{GLITCH_WINDOW} samples when each glitch is replaced by the running median",
     "plateaus_missed": f"plateaus at whose end (median of the last 1 s) the output is more than "
                        f"{MISSED_BAND_LB} lb (a tenth of a step) from the plateau's level: locked out or "
                        "too slow to follow",
@@ -124,15 +124,22 @@ def deglitched(x, glitches):
     return clean
 
 
-def glitches_passed(out, out_clean, glitches, band):
-    """Glitches after which the output leaves the envelope (+-band) of the
-    glitch-free run's output around the glitch: a glitch that only delays the
-    following of a step (it restarts the lock-out count) stays inside it."""
+def glitches_passed(out, out_clean, glitches, band, x=None, x_clean=None):
+    """Glitches whose value leaks into the output: after the glitch the
+    output leaves, towards the glitch (x[g] vs x_clean[g]; both ways when not
+    given), the envelope (+-band) of the glitch-free run's output around it.
+    A glitch that only delays the following of a step (it restarts the
+    lock-out count) stays inside the envelope; a motion restart on noise that
+    happens to coincide with a glitch moves the output the other way."""
     n = 0
     for g in glitches:
         env = out_clean[max(g - GLITCH_WINDOW, 0):g + GLITCH_WINDOW]
         seg = out[g:g + GLITCH_WINDOW]
-        n += bool(np.any(seg > env.max() + band) or np.any(seg < env.min() - band))
+        up, down = np.any(seg > env.max() + band), np.any(seg < env.min() - band)
+        if x is not None:
+            n += bool(up if x[g] > x_clean[g] else down)
+        else:
+            n += bool(up or down)
     return n
 
 
@@ -173,7 +180,8 @@ def analyse_loaded(t, counts, configs=CONFIGS, backend=None):
                 settle.append(None if idx is None else (idx - start) / RATE_HZ)
                 motion.append((p.start - start) / RATE_HZ)
         rows[config] = {
-            "glitches_passed": glitches_passed(out, out_clean, glitches, GLITCH_BAND_LB),
+            "glitches_passed": glitches_passed(out, out_clean, glitches, GLITCH_BAND_LB,
+                                               lb, clean_kg / KG_PER_LB),
             "glitches": int(glitches.size),
             "plateaus_missed": missed,
             "plateaus": len(plateaus),
@@ -217,7 +225,8 @@ def analyse_zero(t, counts, lb_per_count, configs=CONFIGS, backend=None):
         outputs[config] = (out, stable)
         line = fit_poly(t[idx], out[idx], 1, what=f"zero drift ({config})")
         rows[config] = {
-            "glitches_passed": glitches_passed(out, out_clean, glitches, GLITCH_BAND_LB),
+            "glitches_passed": glitches_passed(out, out_clean, glitches, GLITCH_BAND_LB,
+                                               lb, clean_kg / KG_PER_LB),
             "glitches": int(glitches.size),
             "still_from_s": float(t[idx[0]]), "still_to_s": float(t[idx[-1]]),
             "zero_noise_lb": float(np.std(out[idx] - line(t[idx]))),

@@ -120,3 +120,58 @@ def test_default_backend_is_the_c_chain():
     assert recording.default_backend() is chain
     with pytest.raises(ValueError, match="unknown configuration"):
         recording.run_config("median", np.zeros(3))
+
+
+def synthetic_recording(seed=0):
+    """A recording with a known truth: 1000 counts/lb, zero at 5800 counts,
+    70 counts of noise, 0-10-20-30-20-10-0 lb held 12 s each with 1-s ramps,
+    and HX711-like glitches at known samples."""
+    rng = np.random.default_rng(seed)
+    levels = [0, 10, 20, 30, 20, 10, 0]
+    lb = np.concatenate([np.full(120, float(v)) for v in levels])
+    for k in range(1, len(levels)):                     # 1-s ramps between the holds
+        a = 120 * k - 5
+        lb[a:a + 10] = np.linspace(levels[k - 1], levels[k], 10)
+    counts = 5800.0 + 1000.0 * lb + rng.normal(0.0, 70.0, lb.size)
+    glitches = np.array([50, 300, 610, 777])
+    counts[glitches] = -8387000.0
+    t = np.arange(lb.size) / recording.RATE_HZ
+    return t, np.rint(counts), glitches, levels
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_metrics_against_a_known_truth(seed):
+    t, counts, glitches, levels = synthetic_recording(seed)
+    res = recording.analyse_loaded(t, counts)
+    assert [p.nominal for p in res["plateaus"]] == levels
+    np.testing.assert_array_equal(res["glitches"], glitches)
+    assert res["calibration"].counts_per_unit == pytest.approx(1000.0, rel=0.005)
+    rows = res["rows"]
+    assert rows["raw"]["glitches_passed"] == 4
+    assert rows["recommended"]["glitches_passed"] == 0
+    assert rows["recommended"]["plateaus_missed"] == 0
+    assert rows["paper_chain"]["plateaus_missed"] >= 4           # 10 lb = 4.5 kg > A0 = 2 kg
+    # the ramps take 1 s: settling cannot be faster, and the chain should not need much more
+    assert all(1.0 <= s <= 4.0 for s in rows["recommended"]["settle_s"]), rows["recommended"]["settle_s"]
+    assert rows["recommended"]["plateau_err_lb_max"] < 0.05
+    # raw noise on a plateau is the 70 counts put in
+    assert rows["raw"]["plateau_noise_lb"] == pytest.approx(0.07, rel=0.25)
+
+
+def test_glitch_measure_counts_only_leaks_towards_the_glitch():
+    clean = np.zeros(100)
+    x_clean = np.zeros(100)
+    x = x_clean.copy()
+    x[50] = -8000.0
+    g = np.array([50])
+    assert recording.glitches_passed(clean, clean, g, 0.05, x, x_clean) == 0
+    dip = clean.copy()
+    dip[52] = -0.2
+    assert recording.glitches_passed(dip, clean, g, 0.05, x, x_clean) == 1
+    bump = clean.copy()
+    bump[52] = +0.2                                 # away from the glitch: not the glitch's value
+    assert recording.glitches_passed(bump, clean, g, 0.05, x, x_clean) == 0
+    assert recording.glitches_passed(bump, clean, g, 0.05) == 1      # direction unknown: both ways
+    small = clean.copy()
+    small[52] = -0.04                               # inside the band
+    assert recording.glitches_passed(small, clean, g, 0.05, x, x_clean) == 0
