@@ -89,3 +89,15 @@ def test_unloaded_cells_quiet_and_glitch_free(rec, channel):
     assert out.min() > good.min() - 500 and out.max() < good.max() + 500
     assert np.std(out[50:]) < np.std(good)
     assert stable[50:].mean() > 0.5
+
+
+@pytest.mark.parametrize("channel", ["lc1_counts", "lc2_counts", "lc3_counts"])
+def test_fixed_form_tracks_the_float_form(rec, channel):
+    """Integer codes, rounded window means and a Q24.7 state cost less than
+    one count against the double chain on this recording (measured: at most
+    0.87 counts; stability flags differ on at most 1 of 1324 samples)."""
+    x = rec[channel]
+    a, sa = Chain().process(x)
+    b, sb = Chain(fixed=True).process(x)
+    assert np.max(np.abs(a - b)) < 1.5
+    assert np.count_nonzero(sa != sb) <= 3
