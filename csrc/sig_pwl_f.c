@@ -1,0 +1,64 @@
+/* sig_pwl_f.c - piecewise-linear table with uniform knots, float form
+ * (see sig_pwl.h). */
+#include "sig_pwl.h"
+
+static bool pwl_finite(sig_real x)
+{
+    /* NaN fails the comparison; inf exceeds the largest finite value. */
+    return x == x && x - x == SIG_REAL(0.0);
+}
+
+sig_status sig_pwl_init_f(sig_pwl_f *p, const sig_real *table, uint8_t n_knots,
+                          sig_real t_lo, sig_real t_hi, sig_real inv_step)
+{
+    uint8_t k;
+    sig_real end_pos;
+    if (p == NULL || table == NULL) return SIG_ERR_ARG;
+    if (n_knots < SIG_PWL_MIN_KNOTS || !pwl_finite(t_lo) || !pwl_finite(t_hi)
+        || !pwl_finite(inv_step) || !(t_hi > t_lo) || !(inv_step > SIG_REAL(0.0)))
+        return SIG_ERR_ARG;
+    end_pos = (t_hi - t_lo) * inv_step;
+    if (!pwl_finite(end_pos) || end_pos < (sig_real)(n_knots - 2u)
+        || end_pos > (sig_real)(n_knots - 1u) * SIG_REAL(1.0001)) return SIG_ERR_ARG;
+    for (k = 0u; k < n_knots; ++k) {
+        if (!pwl_finite(table[k])) return SIG_ERR_NONFINITE;
+    }
+    p->table = table;
+    p->t_lo = t_lo;
+    p->t_hi = t_hi;
+    p->inv_step = inv_step;
+    p->n_knots = n_knots;
+    return SIG_OK;
+}
+
+sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out)
+{
+    sig_status st = SIG_OK;
+    sig_real pos, lo, hi, frac, y;
+    int32_t seg;
+    if (p == NULL || out == NULL || p->table == NULL) return SIG_ERR_ARG;
+    if (!(t < p->t_lo) && !(t >= p->t_lo)) return SIG_ERR_NONFINITE;   /* NaN */
+    if (t < p->t_lo) {
+        t = p->t_lo;
+        st = SIG_WARN_CLAMPED;
+    } else if (t > p->t_hi) {
+        t = p->t_hi;
+        st = SIG_WARN_CLAMPED;
+    }
+    pos = (t - p->t_lo) * p->inv_step;
+    seg = (int32_t)pos;                      /* pos >= 0: truncation is floor */
+    if (seg >= (int32_t)(p->n_knots - 1u)) {
+        *out = p->table[p->n_knots - 1u];
+    } else {
+        /* (1-f)*lo + f*hi cannot overflow (hi - lo can); the clamp keeps a
+         * last-bit rounding from stepping outside the two knots. */
+        lo = p->table[seg];
+        hi = p->table[seg + 1];
+        frac = pos - (sig_real)seg;
+        y = (SIG_REAL(1.0) - frac) * lo + frac * hi;
+        if (y < (lo < hi ? lo : hi)) y = lo < hi ? lo : hi;
+        if (y > (lo < hi ? hi : lo)) y = lo < hi ? hi : lo;
+        *out = y;
+    }
+    return st;
+}
