@@ -105,10 +105,11 @@ sig_status sig_lag_step_f(sig_lag_f *s, sig_real x, sig_real *out)
 
 /* ---- hysteresis (play operator) ---------------------------------------------- */
 
-sig_status sig_hyst_init_q(sig_hyst_q *s, int16_t width, int32_t k_q16)
+sig_status sig_hyst_init_q(sig_hyst_q *s, int16_t width, int32_t k_q16, int8_t start)
 {
-    if (s == NULL || width < 1) return SIG_ERR_ARG;
+    if (s == NULL || width < 1 || start < -1 || start > 1) return SIG_ERR_ARG;
     s->width = width;
+    s->start = start;
     s->k_q16 = k_q16;
     s->p = 0;
     s->primed = false;
@@ -129,7 +130,7 @@ sig_status sig_hyst_step_q(sig_hyst_q *s, int16_t t, int16_t *branch, int32_t *c
     int32_t tt = (int32_t)t, p, b, c;
     if (s == NULL || branch == NULL || contribution == NULL) return SIG_ERR_ARG;
     if (!s->primed) {
-        p = tt;
+        p = tt - (int32_t)s->start * (int32_t)s->width;
     } else {
         p = s->p;
         if (tt - p > (int32_t)s->width) {
@@ -148,11 +149,12 @@ sig_status sig_hyst_step_q(sig_hyst_q *s, int16_t t, int16_t *branch, int32_t *c
     return st;
 }
 
-sig_status sig_hyst_init_f(sig_hyst_f *s, sig_real width, sig_real k)
+sig_status sig_hyst_init_f(sig_hyst_f *s, sig_real width, sig_real k, int8_t start)
 {
-    if (s == NULL || !finite_real(width) || !finite_real(k) || !(width > SIG_REAL(0.0)))
-        return SIG_ERR_ARG;
+    if (s == NULL || !finite_real(width) || !finite_real(k) || !(width > SIG_REAL(0.0))
+        || start < -1 || start > 1) return SIG_ERR_ARG;
     s->width = width;
+    s->start = start;
     s->k = k;
     s->p = SIG_REAL(0.0);
     s->primed = false;
@@ -173,7 +175,7 @@ sig_status sig_hyst_step_f(sig_hyst_f *s, sig_real t, sig_real *branch, sig_real
     if (s == NULL || branch == NULL || contribution == NULL) return SIG_ERR_ARG;
     if (!finite_real(t)) return SIG_ERR_NONFINITE;
     if (!s->primed) {
-        p = t;
+        p = t - (sig_real)s->start * s->width;
     } else {
         p = s->p;
         if (t - p > s->width) {

@@ -71,7 +71,9 @@ sig_status sig_lag_reset_f(sig_lag_f *s);
 sig_status sig_lag_step_f(sig_lag_f *s, sig_real x, sig_real *out);
 
 /* ---- hysteresis: play operator on the temperature ---------------------------
- * p[0] = t[0]; p follows t only when |t - p| would exceed width:
+ * p before the first sample is t[0] - start * width (start: +1 the last
+ * move was heating, -1 cooling, 0 unknown); then p follows t only when
+ * |t - p| would exceed width:
  *   t - p >  width  ->  p = t - width;   p - t > width  ->  p = t + width.
  * branch b = t - p in [-width, width]: +width heating, -width cooling.
  * contribution = b * k  (k in reading unit per 0.01 °C, Q16: k_q16)
@@ -80,19 +82,21 @@ typedef struct {
     int32_t p;          /* 0.01 °C */
     int32_t k_q16;
     int16_t width;      /* 1..32767, 0.01 °C */
+    int8_t start;       /* -1, 0, +1: branch before the first sample */
     bool primed;
 } sig_hyst_q;
 
 typedef struct {
     sig_real p, width, k;
+    int8_t start;
     bool primed;
 } sig_hyst_f;
 
-sig_status sig_hyst_init_q(sig_hyst_q *s, int16_t width, int32_t k_q16);
+sig_status sig_hyst_init_q(sig_hyst_q *s, int16_t width, int32_t k_q16, int8_t start);
 sig_status sig_hyst_reset_q(sig_hyst_q *s);
 sig_status sig_hyst_step_q(sig_hyst_q *s, int16_t t, int16_t *branch, int32_t *contribution);
 
-sig_status sig_hyst_init_f(sig_hyst_f *s, sig_real width, sig_real k);
+sig_status sig_hyst_init_f(sig_hyst_f *s, sig_real width, sig_real k, int8_t start);
 sig_status sig_hyst_reset_f(sig_hyst_f *s);
 sig_status sig_hyst_step_f(sig_hyst_f *s, sig_real t, sig_real *branch, sig_real *contribution);
 

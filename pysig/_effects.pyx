@@ -5,7 +5,7 @@ take and return `state` (a tuple) so a long signal can be processed in
 pieces with the same result (scipy.signal's zi/zf)."""
 import numpy as np
 cimport numpy as cnp
-from libc.stdint cimport int16_t, int32_t, uint8_t
+from libc.stdint cimport int8_t, int16_t, int32_t, uint8_t
 from libcpp cimport bool as cbool
 
 from .errors import NonFiniteError, RangeError
@@ -56,9 +56,9 @@ cdef extern from "sig_effects.h":
     sig_status sig_lag_step_q(sig_lag_q *s, int32_t x, int32_t *out) nogil
     sig_status sig_lag_init_f(sig_lag_f *s, sig_real alpha)
     sig_status sig_lag_step_f(sig_lag_f *s, sig_real x, sig_real *out) nogil
-    sig_status sig_hyst_init_q(sig_hyst_q *s, int16_t width, int32_t k_q16)
+    sig_status sig_hyst_init_q(sig_hyst_q *s, int16_t width, int32_t k_q16, int8_t start)
     sig_status sig_hyst_step_q(sig_hyst_q *s, int16_t t, int16_t *branch, int32_t *contribution) nogil
-    sig_status sig_hyst_init_f(sig_hyst_f *s, sig_real width, sig_real k)
+    sig_status sig_hyst_init_f(sig_hyst_f *s, sig_real width, sig_real k, int8_t start)
     sig_status sig_hyst_step_f(sig_hyst_f *s, sig_real t, sig_real *branch, sig_real *contribution) nogil
     sig_status sig_creep_init_q(sig_creep_q *s, int32_t alpha_q16, uint8_t frac, int32_t k_q16)
     sig_status sig_creep_step_q(sig_creep_q *s, int32_t x, int32_t *contribution, int32_t *corrected) nogil
@@ -131,12 +131,13 @@ def lag_f(x, double alpha, state=None):
     return out, (float(s.z), bool(s.primed))
 
 
-def hyst_q(t, int width, int k_q16, state=None):
+def hyst_q(t, int width, int k_q16, int start=0, state=None):
     """sig_hyst_step_q over int16 temperatures (0.01 °C).
     Returns (branch int16, contribution int32, status int16, state)."""
     cdef sig_hyst_q s
-    if not (-32768 <= width <= 32767) or sig_hyst_init_q(&s, <int16_t>width, k_q16) != 0:
-        raise RangeError(f"hysteresis: width={width} must be 1..32767")
+    if (not (-32768 <= width <= 32767) or start not in (-1, 0, 1)
+            or sig_hyst_init_q(&s, <int16_t>width, k_q16, <int8_t>start) != 0):
+        raise RangeError(f"hysteresis: width={width} must be 1..32767, start={start} in -1, 0, 1")
     if state is not None:
         s.p, s.primed = state
     cdef cnp.ndarray[cnp.int16_t, ndim=1] ts = np.ascontiguousarray(np.ravel(t), dtype=np.int16)
@@ -156,11 +157,12 @@ def hyst_q(t, int width, int k_q16, state=None):
     return br, c, st, (int(s.p), bool(s.primed))
 
 
-def hyst_f(t, double width, double k, state=None):
+def hyst_f(t, double width, double k, int start=0, state=None):
     """sig_hyst_step_f.  Returns (branch, contribution, state)."""
     cdef sig_hyst_f s
-    if sig_hyst_init_f(&s, width, k) != 0:
-        raise RangeError(f"hysteresis: width={width} must be finite and > 0, k={k} finite")
+    if start not in (-1, 0, 1) or sig_hyst_init_f(&s, width, k, <int8_t>start) != 0:
+        raise RangeError(f"hysteresis: width={width} must be finite and > 0, k={k} finite, "
+                         f"start={start} in -1, 0, 1")
     if state is not None:
         s.p, s.primed = state
     cdef cnp.ndarray[cnp.float64_t, ndim=1] ts = _f64(t)

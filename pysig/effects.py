@@ -31,6 +31,11 @@ from .lsq import center_scale, fit_linear_model
 
 GRID_POINTS = 20
 
+try:
+    from . import _effects as _c_effects
+except ImportError:           # extension not built: the plain-Python loop below
+    _c_effects = None
+
 
 # ---- state primitives (float) ---------------------------------------------
 
@@ -46,13 +51,18 @@ def first_order_lag(x, alpha):
     return z
 
 
-def play_operator(x, width):
+def play_operator(x, width, start=0):
     """Backlash (play) operator: p follows x only when x moves more than
     `width` away from it; x - p lies in [-width, width] and is +width while
-    heating, -width while cooling: the hysteresis branch state."""
+    heating, -width while cooling: the hysteresis branch state.  `start`
+    (+1 heating, -1 cooling, 0 neither) is the branch before the first
+    sample: p[0] = x[0] - start * width."""
+    if _c_effects is not None:     # the firmware's own float form (csrc/sig_effects.c), fast
+        branch, _, _ = _c_effects.hyst_f(x, float(width), 0.0, int(start))
+        return np.asarray(x, dtype=float) - branch
     xs = np.asarray(x, dtype=float).tolist()
     out = [0.0] * len(xs)
-    p = xs[0]
+    p = xs[0] - start * float(width)
     w = float(width)
     for i, v in enumerate(xs):
         if v - p > w:
@@ -144,8 +154,10 @@ class Family:
         """Regressor columns (n, k) and their names."""
         raise NotImplementedError
 
+    variant_name = "variant"
+
     def describe(self, effect):
-        d = {"variant": effect.variant} if len(self.variants) > 1 else {}
+        d = {self.variant_name: effect.variant} if len(self.variants) > 1 else {}
         if self.param_name:
             d[self.param_name] = effect.param
         return d
@@ -155,6 +167,7 @@ class GainDrift(Family):
     """Sensitivity depends on temperature: r * u(T')^j, j = 1..order."""
     name = "gain_drift"
     variants = (1, 2)
+    variant_name = "order"
 
     def unavailable(self, data):
         if data.T is None:
@@ -197,6 +210,8 @@ class Hysteresis(Family):
     """Heating and cooling branches differ: h * (T' - play_w(T')) / w."""
     name = "hysteresis"
     param_name = "width"
+    variants = (0, 1, -1)      # the branch before the first sample: neither, heating, cooling
+    variant_name = "start_branch"
 
     def unavailable(self, data):
         if data.T is None:
@@ -221,7 +236,7 @@ class Hysteresis(Family):
 
     def columns(self, data, T_used, effect):
         w = effect.param
-        return ((T_used - play_operator(T_used, w)) / w)[:, None], ["branch"]
+        return ((T_used - play_operator(T_used, w, effect.variant)) / w)[:, None], ["branch"]
 
 
 class Creep(Family):
@@ -249,6 +264,7 @@ class Nonlinearity(Family):
     """Higher order in the measured quantity: u_r^k, k = 2..order."""
     name = "nonlinearity"
     variants = (2, 3)
+    variant_name = "order"
 
     def unavailable(self, data):
         if not data.has_ref:

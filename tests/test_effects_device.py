@@ -37,18 +37,18 @@ def test_lag_q_bit_exact_and_split(xs, alpha, frac, cut):
 
 @SETTINGS
 @given(ts=st.lists(I16, min_size=1, max_size=60), width=st.integers(1, 32767), k=I32,
-       cut=st.integers(0, 60))
-def test_hysteresis_q_bit_exact_and_split(ts, width, k, cut):
-    h = R.HystQ(width, k)
+       start=st.sampled_from([-1, 0, 1]), cut=st.integers(0, 60))
+def test_hysteresis_q_bit_exact_and_split(ts, width, k, start, cut):
+    h = R.HystQ(width, k, start)
     ref = [h.step(int(t)) for t in ts]
-    br, c, s, _ = C.hyst_q(ts, width, k)
+    br, c, s, _ = C.hyst_q(ts, width, k, start)
     assert br.tolist() == [r[0] for r in ref]
     assert c.tolist() == [r[1] for r in ref]
     assert s.tolist() == [r[2] for r in ref]
     assert np.all(np.abs(br) <= width)
     cut = min(cut, len(ts))
-    b1, c1, _, state = C.hyst_q(ts[:cut], width, k)
-    b2, c2, _, _ = C.hyst_q(ts[cut:], width, k, state)
+    b1, c1, _, state = C.hyst_q(ts[:cut], width, k, start)
+    b2, c2, _, _ = C.hyst_q(ts[cut:], width, k, start, state)
     assert c1.tolist() + c2.tolist() == c.tolist()
 
 
@@ -114,14 +114,15 @@ def test_lag_f_matches_reference_and_fit_model(xs, alpha):
 
 @SETTINGS
 @given(ts=st.lists(FLOATS, min_size=1, max_size=50), width=st.floats(0.01, 100.0),
-       k=st.floats(-10, 10))
-def test_hyst_f_matches_reference_and_fit_model(ts, width, k):
-    br, c, _ = C.hyst_f(ts, width, k)
-    h = R.HystF(width, k)
+       k=st.floats(-10, 10), start=st.sampled_from([-1, 0, 1]))
+def test_hyst_f_matches_reference_and_fit_model(ts, width, k, start):
+    br, c, _ = C.hyst_f(ts, width, k, start)
+    h = R.HystF(width, k, start)
     ref = [h.step(t) for t in ts]
     np.testing.assert_allclose(br, [r[0] for r in ref], rtol=1e-12, atol=1e-9)
     np.testing.assert_allclose(c, [r[1] for r in ref], rtol=1e-12, atol=1e-9)
-    np.testing.assert_allclose(br, np.asarray(ts) - fx.play_operator(ts, width), rtol=1e-12, atol=1e-9)
+    np.testing.assert_allclose(br, np.asarray(ts) - fx.play_operator(ts, width, start),
+                               rtol=1e-12, atol=1e-9)
 
 
 @SETTINGS

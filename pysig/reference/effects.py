@@ -6,7 +6,7 @@ one sample at a time, in plain Python integers (read next to sig_effects.h).
     lag             xs = sat32(x * 2^frac); first: z = xs;
                     else d = sat32(xs - z); z = sat32(z + mul_q16(d, alpha_q16));
                     out = round_shift(z, frac)
-    hysteresis      p = t (first) or p moved to within width of t; b = t - p;
+    hysteresis      p = t - start*width (first) or p moved to within width of t; b = t - p;
                     contribution = mul_q16(b * 2^16, k_q16)
     creep           lag step; d = sat32(z - xs); v = mul_q16(d, k_q16);
                     c = round_shift(v, frac); corrected = sat32(x - c)
@@ -75,10 +75,10 @@ class LagQ:
 class HystQ:
     """sig_hyst_q: play operator on 0.01 °C temperatures."""
 
-    def __init__(self, width, k_q16):
-        if width < 1:
-            raise ValueError("hysteresis: width >= 1")
-        self.width, self.k_q16 = width, k_q16
+    def __init__(self, width, k_q16, start=0):
+        if width < 1 or start not in (-1, 0, 1):
+            raise ValueError("hysteresis: width >= 1, start in -1, 0, 1")
+        self.width, self.k_q16, self.start = width, k_q16, start
         self.reset()
 
     def reset(self):
@@ -86,7 +86,7 @@ class HystQ:
 
     def step(self, t):
         if not self.primed:
-            p = t
+            p = t - self.start * self.width
         else:
             p = self.p
             if t - p > self.width:
@@ -173,15 +173,15 @@ class LagF:
 
 
 class HystF:
-    def __init__(self, width, k):
-        self.width, self.k = width, k
+    def __init__(self, width, k, start=0):
+        self.width, self.k, self.start = width, k, start
         self.reset()
 
     def reset(self):
         self.p, self.primed = 0.0, False
 
     def step(self, t):
-        p = t if not self.primed else self.p
+        p = t - self.start * self.width if not self.primed else self.p
         if self.primed:
             if t - p > self.width:
                 p = t - self.width
