@@ -119,11 +119,35 @@ def seeds_chain():
           + bytes([0]) + edgy(128) + bytes([1, 0]) + edgy(0) + bytes([1]) + edgy(0) + edgy(0) + steps)
 
 
+def seeds_scale():
+    # fixed: mode 0, offset, gain (edgy), shift, then counts (edgy)
+    write("scale", "seed-q-hx711", bytes([0]) + edgy(-8000) + edgy(1 << 30) + bytes([0x80 | 46])
+          + b"".join(edgy(v) for v in (0, 8388607, -8388608, 123456, I32_MIN, I32_MAX)))
+    write("scale", "seed-q-rails", bytes([0]) + edgy(I32_MIN) + edgy(-1) + bytes([0])
+          + b"".join(edgy(v) for v in (I32_MAX, I32_MIN, 0)))
+    write("scale", "seed-f", bytes([1]) + f32(-8000.0, 0.0005) + f32(*F_SPECIAL))
+
+
+def seeds_effects():
+    # lag/creep q: mode 0, alpha, k (edgy), frac|0x80, then (selector, x)
+    xs = b"".join(bytes([0]) + struct.pack("<h", v) for v in (2500, 2600, -3000, 32767, -32768, 0))
+    write("effects", "seed-lag-q", bytes([0]) + edgy(6554) + edgy(-65536) + bytes([0x80 | 16]) + xs)
+    write("effects", "seed-hyst-q", bytes([1]) + struct.pack("<h", 150) + edgy(1 << 20) + bytes([0x41])
+          + struct.pack("<8h", 2500, 2700, 2600, 2400, -32768, 32767, 0, 10))
+    write("effects", "seed-poly-q", bytes([2]) + edgy(0) + edgy(65536) + bytes([0x82, 3, 3])
+          + b"".join(edgy(v) for v in (65536, 1000, -1000, 7, 0, 0, 0, 0, 0)) + b"".join(edgy(v) for v in (100, -100, 5))
+          + edgy(1000) + struct.pack("<h", 16384) + edgy(1) + edgy(2) + edgy(3))
+    write("effects", "seed-float", bytes([3]) + f32(0.1, 0.5, 2.0) + bytes([2, 0])
+          + f32(1.0, 0.1, 0.01, 0, 0, 0, 0, 0, 0) + f32(0.01, 0.02, 0.03) + f32(*F_SPECIAL))
+
+
 if __name__ == "__main__":
     seeds_types()
     seeds_pwl()
     seeds_image()
     seeds_tcomp()
     seeds_chain()
+    seeds_scale()
+    seeds_effects()
     for d in sorted(CORPUS.iterdir()):
         print(f"{d.name}: {len(list(d.iterdir()))} seeds")
