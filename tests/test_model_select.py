@@ -183,3 +183,30 @@ def test_real_mpu6000_curve():
     pts, res = four_point_study(curve.temp, x)
     assert pts.mode == "spread"                                  # 6.7-41.1 °C only
     assert {r.order for r in res} == {1, 2, 3}
+
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(st.floats(-40, 120), min_size=5, max_size=200, unique=True), st.integers(3, 12))
+def test_folds_partition_the_interior(temps, n_blocks):
+    temp = np.sort(np.array(temps))
+    if temp[-1] - temp[0] < 1e-6:
+        return
+    try:
+        folds = blocked_folds(temp, n_blocks)
+    except InsufficientDataError:
+        return                                            # no point inside the interior blocks
+    width = (temp[-1] - temp[0]) / n_blocks
+    held = np.concatenate(folds)
+    assert np.unique(held).size == held.size
+    assert temp[held].min() >= temp[0] + width * (1 - 1e-9)
+    assert temp[held].max() < temp[-1] - width * (1 - 1e-9)
+    for f in folds:                                      # one block each, contiguous
+        assert np.all(np.diff(f) == 1)
+        assert temp[f].max() - temp[f].min() <= width * (1 + 1e-9)
+    # every interior point is held out exactly once
+    interior = np.flatnonzero((temp >= temp[0] + width * (1 + 1e-9))
+                              & (temp < temp[-1] - width * (1 + 1e-9)))
+    assert set(interior) <= set(held)

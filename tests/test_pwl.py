@@ -225,3 +225,27 @@ def test_too_many_knots_for_the_fixed_point_resolution():
     temp = np.linspace(0, 0.5, 50)          # 50 units of 0.01 °C
     with pytest.raises(RangeError, match="closer than one unit"):
         fit_pwl_q16(temp, temp, 60)
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(2, 30), st.floats(-50, 50), st.floats(1, 80),
+       st.lists(st.floats(-1000, 1000), min_size=30, max_size=30), st.integers(0, 2**31))
+def test_fit_recovers_any_table_on_its_own_knots(n, lo, width, values, seed):
+    """Data drawn from a table with the fit's own knots (and enough points per
+    segment) is recovered exactly, by the float fit and, to the int16
+    rounding, by the fixed-point fit evaluated in C."""
+    values = np.array(values[:n])
+    knots = np.linspace(lo, lo + width, n)
+    rng = np.random.default_rng(seed)
+    temp = np.concatenate([knots, rng.uniform(lo, lo + width, 6 * n)])
+    y = np.interp(temp, knots, values)
+    fit = fit_pwl(temp, y, n)
+    assert np.allclose(fit.values, values, atol=1e-6 * (1 + np.abs(values).max()))
+    if width * 100 > n:                      # fixed point: knots at least 0.01 °C apart
+        q = fit_pwl_q16(temp, y, n)
+        lsb = 2.0 ** -q.value_frac
+        # knots sit where the C puts them (within 1e-4 of a segment of the float
+        # knots); the error is the int16 rounding plus that shift times the slope
+        slope = np.abs(np.diff(values)).max() * (n - 1) / width
+        tol = lsb + 2e-4 * width / (n - 1) * slope + 0.02 * slope + 1e-9
+        assert q.rms <= tol
