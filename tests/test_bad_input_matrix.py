@@ -477,3 +477,9 @@ def test_cli_filter_arbitrary_csv(tmp_path, rows, fixed):
     assert status in {c.exit_status for c in ERROR_CLASSES}, err
     assert err.strip().startswith("pysig filter: error: ") and "\n" not in err.strip(), err
     assert not out.exists() and leftovers(tmp_path) == []
+
+
+def test_docs_table_lists_every_case():
+    doc = (ROOT / "docs" / "bad-input.md").read_text()
+    missing = [c[0] for c in CASES if f"| {c[0]} |" not in doc]
+    assert not missing, f"docs/bad-input.md lacks rows for {missing}"
