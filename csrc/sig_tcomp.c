@@ -3,13 +3,24 @@
 #include "sig_tcomp.h"
 #include "sig_image.h"
 
-/* u for a temperature already inside the range (|t - t_center| <= 32767). */
+/* floor(x / 2^16) for any int32 x, by selecting the high word of x + 2^31
+ * (unsigned: no shift of a negative value, no signed overflow). */
+static int32_t floor_div_2p16(int32_t x)
+{
+    return (int32_t)(((uint32_t)x + UINT32_C(0x80000000)) >> 16) - INT32_C(32768);
+}
+
+/* u for a temperature already inside the range (|t - t_center| <= 32767):
+ * floor((d * u_mul32 + 2^15) / 2^16) = d * Mh + floor((d * Ml + 2^15) / 2^16)
+ * with u_mul32 = Mh * 2^16 + Ml, which equals the documented
+ * floor((d * u_mul + 2^(u_shift-1)) / 2^u_shift) because
+ * u_mul32 = u_mul * 2^(16 - u_shift).  Two 16x16 products, no shift loop. */
 static int16_t scale_in_range(const sig_tcomp_q *m, int16_t t)
 {
     int16_t d = (int16_t)((int32_t)t - (int32_t)m->t_center);
-    int32_t prod = (int32_t)d * (int32_t)m->u_mul;          /* 16x16 -> 32 */
-    if (m->u_shift > 0u) prod += (int32_t)1 << (m->u_shift - 1u);
-    return (int16_t)sig_asr32(prod, m->u_shift);
+    int32_t hi = (int32_t)d * (int32_t)(m->u_mul32 >> 16);
+    int32_t lo = (int32_t)d * (int32_t)(m->u_mul32 & INT32_C(0xFFFF)) + INT32_C(32768);
+    return (int16_t)(hi + floor_div_2p16(lo));
 }
 
 static int32_t scale_wide(int32_t d, int16_t u_mul, uint8_t u_shift)
@@ -17,6 +28,60 @@ static int32_t scale_wide(int32_t d, int16_t u_mul, uint8_t u_shift)
     int32_t prod = d * (int32_t)u_mul;
     if (u_shift > 0u) prod += (int32_t)1 << (u_shift - 1u);
     return sig_asr32(prod, u_shift);
+}
+
+/* floor(acc * u / 2^15), |u| <= 32767, exact (as sig_mul_q15_32x16):
+ * acc = hi * 2^16 + lo, lo in [0, 65535]; x = hi * u; y = lo * u;
+ * floor(acc*u / 2^15) = 2 * (x + floor(y / 2^16)) + bit 15 of y. */
+static int32_t mul_q15_fast(int32_t acc, int16_t u)
+{
+    int32_t hi = floor_div_2p16(acc);
+    int32_t lo = (int32_t)((uint32_t)acc & UINT32_C(0xFFFF));
+    int32_t x = hi * (int32_t)u;
+    int32_t y = lo * (int32_t)u;
+    return 2 * (x + floor_div_2p16(y)) + (((uint32_t)y & UINT32_C(0x8000)) != 0u ? 1 : 0);
+}
+
+/* delta(u) of one axis.  When init proved that no partial sum can leave
+ * int32 (m->no_overflow) the additions are plain; otherwise they saturate
+ * (sig_poly_horner_q15).  Both give the same value when nothing saturates. */
+static sig_status axis_delta(const sig_tcomp_q *m, const int32_t *c, int16_t u, int32_t *delta)
+{
+    int32_t acc;
+    uint8_t k;
+    if (!m->no_overflow) return sig_poly_horner_q15(c, m->order, u, delta);
+    acc = c[m->order];
+    for (k = m->order; k > 0u; k--) acc = c[k - 1u] + mul_q15_fast(acc, u);
+    *delta = acc;
+    return SIG_OK;
+}
+
+/* floor((delta + 2^(q-1)) / 2^q): for q >= 16 a high-word select and a
+ * 16-bit shift, no 32-bit shift loop. */
+static int32_t round_shift(const sig_tcomp_q *m, uint8_t q, int32_t q_round, int32_t delta)
+{
+    int16_t h;
+    if (m->no_overflow) delta += q_round;
+    else delta = sig_sat_add32(delta, q_round);
+    if (q < 16u) return sig_asr32(delta, q);
+    h = (int16_t)floor_div_2p16(delta);
+    q = (uint8_t)(q - 16u);
+    return h >= 0 ? (int32_t)(h >> q) : (int32_t)~((int16_t)~h >> q);
+}
+
+/* Sum over axes of |c_k| + order + 2^(q-1) <= INT32_MAX: then no Horner
+ * partial sum (bounded by the suffix sums of |c_k| plus one floor per step)
+ * and no rounding add can overflow. */
+static bool cannot_overflow(const sig_tcomp_q *m)
+{
+    uint8_t a, k;
+    int32_t sum;
+    for (a = 0; a < m->n_axes; a++) {
+        sum = sig_sat_add32((int32_t)m->order, m->q_round[a]);
+        for (k = 0; k <= m->order; k++) sum = sig_sat_add32(sum, sig_abs32_sat(m->coef[a][k]));
+        if (sum == INT32_MAX) return false;
+    }
+    return true;
 }
 
 /* Axis-major coef[n_axes][order + 1] into the fixed-size table, zero-filled.
@@ -44,7 +109,7 @@ sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
     if (n_axes < 1u || n_axes > SIG_TCOMP_MAX_AXES) return SIG_ERR_ARG;
     if (order < SIG_TCOMP_MIN_ORDER || order > SIG_TCOMP_MAX_ORDER) return SIG_ERR_ARG;
     if (t_lo >= t_hi || t_center < t_lo || t_center > t_hi) return SIG_ERR_ARG;
-    if (u_mul <= 0 || u_shift > 30u) return SIG_ERR_ARG;
+    if (u_mul <= 0 || u_shift > SIG_TCOMP_MAX_U_SHIFT) return SIG_ERR_ARG;
     d_hi = (int32_t)t_hi - (int32_t)t_center;
     d_lo = (int32_t)t_lo - (int32_t)t_center;
     if (d_hi > INT16_MAX || d_lo < -(int32_t)INT16_MAX) return SIG_ERR_ARG;
@@ -54,7 +119,11 @@ sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
     for (a = 0; a < n_axes; a++)
         if (q[a] > SIG_TCOMP_MAX_Q) return SIG_ERR_ARG;
     copy_coef_q(m, n_axes, order, coef);
-    for (a = 0; a < SIG_TCOMP_MAX_AXES; a++) m->q[a] = a < n_axes ? q[a] : 0u;
+    for (a = 0; a < SIG_TCOMP_MAX_AXES; a++) {
+        m->q[a] = a < n_axes ? q[a] : 0u;
+        m->q_round[a] = m->q[a] > 0u ? (int32_t)1 << (m->q[a] - 1u) : 0;
+    }
+    m->u_mul32 = (int32_t)u_mul << (16u - u_shift);
     m->t_lo = t_lo;
     m->t_hi = t_hi;
     m->t_center = t_center;
@@ -63,6 +132,7 @@ sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
     m->u_shift = u_shift;
     m->order = order;
     m->n_axes = n_axes;
+    m->no_overflow = cannot_overflow(m);
     return SIG_OK;
 }
 
@@ -83,7 +153,7 @@ sig_status sig_tcomp_delta_q(const sig_tcomp_q *m, uint8_t axis, int16_t t, int3
     int32_t value;
     if (m == NULL || delta == NULL || axis >= m->n_axes) return SIG_ERR_ARG;
     st = sig_tcomp_scale_q(m, t, &u);
-    st_poly = sig_poly_horner_q15(m->coef[axis], m->order, u, &value);
+    st_poly = axis_delta(m, m->coef[axis], u, &value);
     if (st_poly < 0) return st_poly;
     *delta = value;
     return (sig_status)(st | st_poly);
@@ -91,18 +161,17 @@ sig_status sig_tcomp_delta_q(const sig_tcomp_q *m, uint8_t axis, int16_t t, int3
 
 sig_status sig_tcomp_apply_q(const sig_tcomp_q *m, int16_t t, const int16_t *in, int16_t *out)
 {
-    sig_status st, st_poly;
+    sig_status st;
     int16_t u;
     int32_t delta, corrected;
-    uint8_t a, q;
+    const int32_t *c;
+    uint8_t a;
     if (m == NULL || in == NULL || out == NULL) return SIG_ERR_ARG;
     st = sig_tcomp_scale_q(m, t, &u);
-    for (a = 0; a < m->n_axes; a++) {
-        st_poly = sig_poly_horner_q15(m->coef[a], m->order, u, &delta);
-        if (st_poly < 0) return st_poly;    /* unreachable after init: order checked */
-        st = (sig_status)(st | st_poly);
-        q = m->q[a];
-        if (q > 0u) delta = sig_asr32(sig_sat_add32(delta, (int32_t)1 << (q - 1u)), q);
+    c = m->coef[0];
+    for (a = 0; a < m->n_axes; a++, c += SIG_TCOMP_MAX_ORDER + 1u) {
+        st = (sig_status)(st | axis_delta(m, c, u, &delta));   /* never an error after init */
+        delta = round_shift(m, m->q[a], m->q_round[a], delta);
         corrected = sig_sat_sub32((int32_t)in[a], delta);
         if (corrected > INT16_MAX || corrected < INT16_MIN) st = (sig_status)(st | SIG_WARN_SATURATED);
         out[a] = sig_sat16(corrected);

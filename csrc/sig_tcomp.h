@@ -31,8 +31,11 @@
  *   output       out = sat16(in - round(delta / 2^q[a])), round half up
  *                (floor((delta + 2^(q-1)) / 2^q)); SIG_WARN_SATURATED if the
  *                output hit an int16 rail or a Horner sum saturated.
- *   Cost of sig_tcomp_apply_q, order 2, 3 axes: 1 + 3 * 2 * 2 = 13 products
- *   of 16x16 bits, no division, no int64.
+ *   Cost of sig_tcomp_apply_q, order 2, 3 axes: 2 + 3 * 2 * 2 = 14 products
+ *   of at most 16x16 bits, no division, no int64, no variable 32-bit shift
+ *   when q >= 16 (the rounding shifts and scale factors are precomputed by
+ *   sig_tcomp_init_q, and a model whose sums cannot overflow skips the
+ *   saturation tests: pysig.quant always produces such a model).
  *
  * ---- Float form (sig_tcomp_f) ------------------------------------------
  *   temperature  sig_real °C; u = (clamp(T) - center) * inv_scale;
@@ -53,6 +56,7 @@
 #define SIG_TCOMP_MAX_ORDER  SIG_POLY_MAX_ORDER   /* 8 */
 #define SIG_TCOMP_T_PER_DEGC 100                  /* temperature unit: 0.01 °C */
 #define SIG_TCOMP_MAX_Q      30u                  /* coefficient fraction bits */
+#define SIG_TCOMP_MAX_U_SHIFT 15u                 /* pysig.quant never needs more than 14 */
 
 typedef struct {
     int32_t coef[SIG_TCOMP_MAX_AXES][SIG_TCOMP_MAX_ORDER + 1u]; /* Q(q[a]) LSB, ascending powers of u */
@@ -61,9 +65,14 @@ typedef struct {
     int16_t t_center;               /* u = 0 here, t_lo <= t_center <= t_hi */
     int16_t t0;                     /* reference temperature (documentary: folded into c[0]) */
     int16_t u_mul;                  /* > 0 */
-    uint8_t u_shift;                /* 0..30 */
+    uint8_t u_shift;                /* 0..15 */
     uint8_t order;                  /* 1..8 */
     uint8_t n_axes;                 /* 1..3 */
+    /* derived by sig_tcomp_init_q, so the hot path has no variable 32-bit shift: */
+    int32_t u_mul32;                /* u_mul * 2^(16 - u_shift): u from a high-word select */
+    int32_t q_round[SIG_TCOMP_MAX_AXES]; /* 2^(q-1), 0 when q == 0 */
+    bool no_overflow;               /* sum |c| + order + 2^(q-1) <= INT32_MAX on every axis:
+                                       Horner without saturation checks (same result) */
 } sig_tcomp_q;
 
 typedef struct {
@@ -78,7 +87,7 @@ typedef struct {
  * values, axis-major; q holds n_axes fraction counts.  SIG_ERR_ARG (and *m
  * untouched) for NULL pointers, n_axes outside 1..3, order outside 1..8,
  * q > 30, t_lo >= t_hi, t_center outside [t_lo, t_hi], u_mul <= 0,
- * u_shift > 30, or a scaling under which |u| would exceed 32767 in range. */
+ * u_shift > 15, or a scaling under which |u| would exceed 32767 in range. */
 sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
                             const int32_t *coef, const uint8_t *q,
                             int16_t t_lo, int16_t t_hi, int16_t t_center, int16_t t0,

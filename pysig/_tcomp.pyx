@@ -42,6 +42,7 @@ cdef extern from "sig_tcomp.h":
         uint8_t u_shift
         uint8_t q[3]
         int32_t coef[3][9]
+        bint no_overflow
     ctypedef struct sig_tcomp_f:
         uint8_t n_axes
     sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order, const int32_t *coef,
@@ -173,6 +174,11 @@ cdef class TcompQ:
     @property
     def order(self):
         return self.m.order
+
+    @property
+    def no_overflow(self):
+        """True when init proved no sum can overflow (fast, unsaturated Horner)."""
+        return bool(self.m.no_overflow)
 
     def fields(self):
         n, k = self.m.n_axes, self.m.order

@@ -104,6 +104,7 @@ def test_cli_round_trip_fit_export_image_c_evaluation(tmp_path, chamber_csv, cap
     m = tmodel.load(mj)
     c = _tcomp.TcompQ.from_image(img.read_bytes())
     assert c.fields() == m.fixed_fields()
+    assert c.no_overflow                       # pysig.quant models take the fast path
     d = read_csv(chamber_csv)
     t = quant.to_centi(d["temp"])
     x = np.column_stack([d[k] for k in "xyz"]).astype(np.int16)

@@ -51,14 +51,17 @@ def test_horner_f_matches_reference(coef, u):
 
 
 @st.composite
-def fixed_models(draw):
+def fixed_models(draw, small=False):
+    """Valid fixed models; small=True keeps sum |c| + 2^(q-1) < 2^31, the
+    models pysig.quant makes, which take the unsaturated fast path in C."""
     n_axes = draw(st.integers(1, 3))
     order = draw(st.integers(1, 8))
     t_lo = draw(st.integers(-32768, 32766))
     t_hi = draw(st.integers(t_lo + 1, min(32767, t_lo + 65534)))
     s = quant.choose_scaling(t_lo, t_hi)
-    coef = [[draw(I32) for _ in range(order + 1)] for _ in range(n_axes)]
-    q = [draw(st.integers(0, 30)) for _ in range(n_axes)]
+    cint = st.integers(-(1 << 26), 1 << 26) if small else I32
+    coef = [[draw(cint) for _ in range(order + 1)] for _ in range(n_axes)]
+    q = [draw(st.integers(0, 29 if small else 30)) for _ in range(n_axes)]
     t0 = draw(st.integers(t_lo, t_hi))
     return {"coef": coef, "q": q, "t_lo": t_lo, "t_hi": t_hi, "t_center": s.t_center, "t0": t0,
             "u_mul": s.u_mul, "u_shift": s.u_shift}
@@ -77,6 +80,17 @@ def test_apply_q_bit_exact(model, temps, data):
         for a in range(n):
             d, dst = c.delta(a, [t])
             assert (int(d[0]), int(dst[0])) == ref.delta_q(model, a, t)
+
+
+@settings(max_examples=300, deadline=None)
+@given(model=fixed_models(small=True), temps=st.lists(I16, min_size=1, max_size=8), data=st.data())
+def test_apply_q_fast_path_bit_exact(model, temps, data):
+    c = _tcomp.TcompQ.from_fields(**model)
+    assert c.no_overflow
+    x = np.array([[data.draw(I16) for _ in model["coef"]] for _ in temps], dtype=np.int16)
+    out, status = c.apply(np.array(temps), x)
+    for i, t in enumerate(temps):
+        assert (list(out[i]), status[i]) == ref.apply_q(model, t, [int(v) for v in x[i]])
 
 
 @settings(max_examples=100, deadline=None)
