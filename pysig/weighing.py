@@ -183,25 +183,37 @@ def find_plateaus(x, rate_hz, min_s=3.0, window_s=1.0, k_sigma=6.0, trim_s=0.0):
     return plateaus
 
 
-def assign_nominal(plateaus, step, tol_frac=0.25):
+def assign_nominal(plateaus, step, min_gap=None, tol_frac=0.25):
     """Nominal level of each plateau for loads put on in equal steps from zero.
 
-    Plateau levels are grouped (levels closer than tol_frac of the smallest
-    gap between groups belong together); the lowest group is 0, the next
-    `step`, then 2*step, ...  Returns new Plateau objects with `nominal` set."""
+    Plateau levels closer than `min_gap` (default: tol_frac of the largest
+    gap between sorted levels) are one load.  The lowest load is 0; the
+    smallest spacing between loads is one `step`, and every load is the
+    nearest whole number of steps above the lowest (so a skipped level is
+    seen).  Raises RangeError when a load lies more than 0.2 step from a
+    whole number of steps.  Returns new Plateau objects with `nominal` set."""
     if not plateaus:
         raise InsufficientDataError("assign_nominal: no plateaus")
     levels = np.array([p.level for p in plateaus])
-    order = np.sort(levels)
-    gaps = np.diff(order)
-    if gaps.size == 0:
-        groups = np.zeros(1)
+    order = np.argsort(levels)
+    gaps = np.diff(levels[order])
+    if min_gap is None:
+        min_gap = tol_frac * gaps.max() if gaps.size else 0.0
+    group_sorted = np.concatenate(([0], np.cumsum(gaps > min_gap)))
+    group = np.empty(levels.size, dtype=int)
+    group[order] = group_sorted
+    means = np.array([levels[group == g].mean() for g in range(group.max() + 1)])
+    if means.size == 1:
+        index = np.zeros(1)
     else:
-        big = gaps.max()
-        split = gaps > tol_frac * big
-        groups_sorted = np.concatenate(([0], np.cumsum(split)))
-        groups = groups_sorted[np.searchsorted(order, levels)]
-    return [Plateau(p.start, p.stop, p.level, float(g * step)) for p, g in zip(plateaus, groups)]
+        spacing = np.min(np.diff(means))
+        ratio = (means - means[0]) / spacing
+        index = np.rint(ratio)
+        worst = int(np.argmax(np.abs(ratio - index)))
+        if abs(ratio[worst] - index[worst]) > 0.2:
+            raise RangeError(f"assign_nominal: load {worst} sits {ratio[worst]:.2f} steps above zero, "
+                             "not a whole number of equal steps")
+    return [Plateau(p.start, p.stop, p.level, float(index[g] * step)) for p, g in zip(plateaus, group)]
 
 
 # ---- measurements ---------------------------------------------------------

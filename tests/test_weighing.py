@@ -2,6 +2,7 @@
 settle/glitch measurements used by the benches."""
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings, strategies as st
 
 from pysig import _scale, lsq, weighing
 from pysig.errors import InsufficientDataError, RangeError
@@ -116,3 +117,41 @@ def test_settle_index():
     assert weighing.settle_index(out, 10.0, 0.05, 1, 4) is None       # still outside at the end
     assert weighing.settle_index(out, 0.0, 0.05, 1, out.size) is None
     assert weighing.settle_index(out, 10.0, 0.05, 5, 5) is None       # empty interval
+
+
+def _plateaus(levels):
+    return [weighing.Plateau(10 * i, 10 * i + 5, float(v)) for i, v in enumerate(levels)]
+
+
+def test_nominal_levels_see_a_skipped_step_and_refuse_unequal_steps():
+    # 0, 10, 30, 10, 0 lb at 1000 counts/lb above a 5800-count zero, a few counts of noise
+    got = weighing.assign_nominal(_plateaus([5803, 15790, 35810, 15802, 5797]), 10.0)
+    assert [p.nominal for p in got] == [0, 10, 30, 10, 0]
+    with pytest.raises(RangeError, match="whole number"):
+        weighing.assign_nominal(_plateaus([0, 1000, 2500]), 10.0)
+    assert [p.nominal for p in weighing.assign_nominal(_plateaus([7.0, 7.5]), 1.0, min_gap=1.0)] == [0, 0]
+
+
+@settings(max_examples=25, deadline=None)
+@given(moves=st.lists(st.sampled_from([-2, -1, 1, 2]), min_size=4, max_size=7),
+       holds=st.lists(st.floats(6.0, 15.0), min_size=8, max_size=8),
+       noise=st.floats(0.5, 10.0), swing=st.floats(0.0, 0.05),
+       glitch_at=st.lists(st.floats(0.0, 1.0), max_size=3), seed=st.integers(0, 2**16))
+def test_plateau_finder_on_random_staircases(moves, holds, noise, swing, glitch_at, seed):
+    levels = [0]
+    for m in moves:
+        levels.append(min(5, max(0, levels[-1] + m)))
+    levels = [v for i, v in enumerate(levels) if i == 0 or v != levels[i - 1]]
+    assume(len(levels) >= 3 and any(abs(a - b) == 1 for a, b in zip(levels, levels[1:])))
+    times = np.concatenate(([0.0], np.cumsum(holds[:len(levels) - 1])))
+    p = LoadCellParams(load_steps=tuple((float(t), 10.0 * v) for t, v in zip(times, levels)),
+                       duration_s=float(times[-1] + holds[len(levels) - 1]), noise_uv_rms=noise,
+                       ringing_frac=swing)
+    run = simulate(p, seed=seed)
+    counts = run["counts"].astype(float)
+    glitches = sorted({int(g * (counts.size - 1)) for g in glitch_at})
+    counts[glitches] = -(2**23)
+    found = weighing.assign_nominal(weighing.find_plateaus(counts, p.rate_hz), 10.0)
+    assert [pl.nominal / 10.0 for pl in found] == levels
+    for pl in found:
+        assert np.all(run["ref_kg"][pl.start:pl.stop] == pl.nominal)
