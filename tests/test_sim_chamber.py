@@ -79,3 +79,15 @@ def test_cross_axis_and_cubic_nonlinearity():
 def test_bad_profile_is_refused():
     with pytest.raises(ValueError, match="profile"):
         sc.simulate(sc.ChamberParams(profile="sine"))
+
+
+def test_cli_chamber_then_fit(tmp_path, capsys):
+    from pysig.cli import main
+    csv_path, model = tmp_path / "ch.csv", tmp_path / "m.json"
+    assert main(["chamber", "-o", str(csv_path), "--seed", "9", "--dwell", "600"]) == 0
+    np.testing.assert_array_equal(read_csv(csv_path)["x"],
+                                  sc.simulate(sc.ChamberParams(seed=9, dwell_s=600))["x"])
+    assert main(["fit", str(csv_path), "--columns", "x,y,z", "--order", "auto", "-o", str(model)]) == 0
+    assert "order chosen: 2" in capsys.readouterr().out
+    assert main(["chamber", "-o", str(tmp_path / "bad.csv"), "--dwell", "0"]) == 7
+    assert not (tmp_path / "bad.csv").exists()
