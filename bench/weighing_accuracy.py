@@ -12,7 +12,9 @@ Setup (every figure is a median and a worst case over --seeds seeds):
   by pysig.weighing.calibrate (pysig.lsq): sensitivity and linearity error.
 - Accuracy runs ("the factory floor"): each mass on the cell from power-up,
   60 s at 10 samples/s; 20 readings, one per second over the last 20 s; the
-  error of a configuration is its largest |reading - mass| over the 20.
+  error of a configuration is its largest |reading - mass| over the 20 (the
+  paper does not say when its readings were taken: the first 20 s after
+  power-up are reported too, where the Kalman filter has averaged less).
   Disturbances: vibration (white, proportional to the load: floor
   acceleration times mass) plus electrical impulses (0.1 per second, one
   polarity, 5..10 kg equivalent).  The vibration level is SOLVED for (brentq)
@@ -56,6 +58,7 @@ CAL_MASSES = np.arange(10.0, 50.1, 5.0)
 MASSES = np.arange(5.0, 50.1, 5.0)
 RUN_S = 60.0
 READ_IDX = (np.arange(41, 61) * RATE - 1).astype(int)        # one reading per second, last 20 s
+EARLY_IDX = (np.arange(1, 21) * RATE - 1).astype(int)        # ... or the first 20 s after power-up
 CELL = dict(rate_hz=RATE, nonlinearity_frac_fs=0.0002)
 QUIET = dict(noise_uv_rms=0.02)
 IMPULSES = dict(impulse_rate_hz=0.1, impulse_amp_uv=10.0 * 150.0, impulse_polarity="+")
@@ -122,8 +125,8 @@ def static_run(mass, seed, vib_g, cal):
     return cal.to_mass(run["counts"])
 
 
-def max_err_pct(out, mass):
-    return float(np.max(np.abs(out[READ_IDX] - mass)) / mass * 100.0)
+def max_err_pct(out, mass, idx=READ_IDX):
+    return float(np.max(np.abs(out[idx] - mass)) / mass * 100.0)
 
 
 def solve_vibration(seeds, cals):
@@ -203,6 +206,7 @@ def run(n_seeds):
     names = list(cfgs)
     err = {n: np.zeros((n_seeds, MASSES.size)) for n in names}     # % of the mass
     err_kg = {n: np.zeros((n_seeds, MASSES.size)) for n in names}
+    early30 = {n: [] for n in names}
     for s in seeds:
         for j, m in enumerate(MASSES):
             kg = static_run(m, s, vib, cals[s])
@@ -210,6 +214,8 @@ def run(n_seeds):
                 out = cfgs[n](kg)[0]
                 err[n][s, j] = max_err_pct(out, m)
                 err_kg[n][s, j] = err[n][s, j] * m / 100.0
+                if m == 30.0:
+                    early30[n].append(max_err_pct(out, m, EARLY_IDX))
     j30 = int(np.flatnonzero(MASSES == 30.0)[0])
     settle = [settle_seed(s, cals[s]) for s in seeds]
 
@@ -247,6 +253,8 @@ def run(n_seeds):
         out[f"{n}_max_err_kg_30kg"] = float(np.median(err_kg[n][:, j30]))
         out[f"{n}_max_err_pct_all"] = ma
         out[f"{n}_max_err_pct_all_worst"] = wa
+    for n in names:
+        out[f"{n}_max_err_pct_30kg_first20s"] = float(np.median(early30[n]))
     out["improvement_raw_to_chain_30kg"] = out["raw_max_err_pct_30kg"] / out["chain_max_err_pct_30kg"]
     out["improvement_kalman_to_chain_all"] = out["kalman_max_err_pct_all"] / out["chain_max_err_pct_all"]
     out["per_mass"] = [
@@ -302,7 +310,11 @@ def print_tables(o):
     for n in NAMES:
         print(f"{n} | {o[n + '_max_err_kg_30kg']:.3f} | {o[n + '_max_err_pct_30kg']:.2f} | "
               f"{o[n + '_max_err_pct_30kg_worst']:.2f} | {paper.get(n, '-')}")
-    print(f"improvement raw -> chain at 30 kg: {o['improvement_raw_to_chain_30kg']:.1f}x (paper 20x)")
+    print(f"improvement raw -> chain at 30 kg: {o['improvement_raw_to_chain_30kg']:.1f}x (paper 20x); "
+          f"with the 20 readings in the first 20 s after power-up instead: raw "
+          f"{o['raw_max_err_pct_30kg_first20s']:.2f} %, kalman {o['kalman_max_err_pct_30kg_first20s']:.2f} %, "
+          f"chain {o['chain_max_err_pct_30kg_first20s']:.2f} % "
+          f"({o['raw_max_err_pct_30kg_first20s'] / o['chain_max_err_pct_30kg_first20s']:.1f}x)")
     print()
     print("mass kg | " + " | ".join(f"{n} %" for n in NAMES) + "   (median / worst over seeds)")
     print(" | ".join("---" for _ in range(len(NAMES) + 1)))
