@@ -49,8 +49,8 @@ from pysig import quant  # noqa: E402
 from pysig._tcomp import TcompQ  # noqa: E402
 from pysig.io import atomic_output  # noqa: E402
 from pysig.lsq import fit_poly  # noqa: E402
-from pysig.model_select import (PAPER_ORDER, bin_by_temperature, choose, four_point_study,  # noqa: E402
-                                load_curve, score_sizes)
+from pysig.model_select import (PAPER_ORDER, bin_by_temperature, choose, four_point_choice,  # noqa: E402
+                                four_point_study, load_curve, score_sizes)
 from pysig.pwl import fit_pwl_q16  # noqa: E402
 from pysig.sim_chamber import ChamberParams, simulate  # noqa: E402
 
@@ -291,7 +291,9 @@ def summarise(name, curve, rows):
         ax["four_point"] = {"mode": pts.mode, "targets_c": list(pts.targets),
                             "temps_c": [float(curve.temp[i]) for i in pts.index],
                             "orders": [{"order": r.order, "points_rms": r.points_rms,
-                                        "dense_rms": r.dense_rms} for r in res]}
+                                        "loo_rms": r.loo_rms, "dense_rms": r.dense_rms}
+                                       for r in res],
+                            "loo_choice": four_point_choice(res).order}
         paper = next(r for r in mine if r["family"] == "poly" and r["size"] == PAPER_ORDER)
         ax["paper_order_cv_rms"] = paper["cv_rms"]
         if mine[0]["cycles"] is not None:
@@ -333,7 +335,8 @@ def print_summary(summary):
             print(f"  {axis}: blocked CV picks poly order {a['cv_choice_poly']}, table of "
                   f"{a['cv_choice_pwl']} knots; paper's order 2 cv_rms {a['paper_order_cv_rms']:.2f}; "
                   f"four points ({fp['mode']}) at " + ", ".join(f"{t:.2f}" for t in fp["temps_c"])
-                  + " °C: dense-curve RMS " + ", ".join(f"order {k} {o[k]['dense_rms']:.2f}" for k in o))
+                  + f" °C choose order {fp['loo_choice']} (leave-one-out); dense-curve RMS "
+                  + ", ".join(f"order {k} {o[k]['dense_rms']:.2f}" for k in o))
             if "pareto_front" in a:
                 print("    Pareto front (cycles, cv_rms): "
                       + ", ".join(f"{f} {n}" for f, n in a["pareto_front"]))

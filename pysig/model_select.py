@@ -273,20 +273,40 @@ def paper_points(temp, targets=PAPER_TEMPS):
 class FourPointResult:
     order: int
     points_rms: float        # residual at the calibration points (what the paper saw)
+    loo_rms: float           # leave-one-out over the calibration points (NaN: not possible)
     dense_rms: float         # residual over the whole curve (what it costs)
 
 
 def four_point_study(temp, y, orders=(1, 2, 3), targets=PAPER_TEMPS):
-    """Fit each order on the paper's four points; error at the points and on
-    the dense curve."""
+    """Fit each order on the paper's four points; error at the points, their
+    leave-one-out error (the only cross-validation four points allow: orders
+    up to 2) and the error on the dense curve."""
     pts = paper_points(temp, targets)
     tp, yp = np.asarray(temp)[pts.index], np.asarray(y)[pts.index]
     results = []
     for order in orders:
         check_size("poly", order, np.unique(tp).size)
         model = fit_poly(tp, yp, order, what=f"four-point order {order}")
+        if order + 1 <= tp.size - 1:
+            loo = [yp[i] - fit_poly(np.delete(tp, i), np.delete(yp, i), order,
+                                    what=f"four-point order {order}")(tp[i])
+                   for i in range(tp.size)]
+            loo_rms = float(np.sqrt(np.mean(np.square(loo))))
+        else:
+            loo_rms = float("nan")
         results.append(FourPointResult(
             order=int(order),
             points_rms=float(np.sqrt(np.mean((yp - model(tp)) ** 2))),
+            loo_rms=loo_rms,
             dense_rms=float(np.sqrt(np.mean((np.asarray(y) - model(temp)) ** 2)))))
     return pts, results
+
+
+def four_point_choice(results, tolerance=CHOICE_TOLERANCE):
+    """The order a four-temperature calibration would choose by its own
+    leave-one-out error (same rule as `choose`)."""
+    scored = [r for r in results if np.isfinite(r.loo_rms)]
+    if not scored:
+        raise InsufficientDataError("four-point study: no order allows leave-one-out")
+    best = min(r.loo_rms for r in scored)
+    return min((r for r in scored if r.loo_rms <= best * (1.0 + tolerance)), key=lambda r: r.order)

@@ -9,8 +9,8 @@ import pytest
 from conftest import require_shared_data
 from pysig.errors import InputFileError, InsufficientDataError, NonFiniteError, RangeError
 from pysig.model_select import (PAPER_TEMPS, blocked_folds, check_size, choose, cross_validate,
-                                four_point_study, load_curve, paper_points, poly_fitter,
-                                pwl_fitter, score_sizes, tidy_curve)
+                                four_point_choice, four_point_study, load_curve, paper_points,
+                                poly_fitter, pwl_fitter, score_sizes, tidy_curve)
 
 MPU = "mpu6000_gyro_offset_vs_temp/mpu6000_sn102_gyro_offset.csv"
 
@@ -164,6 +164,21 @@ def test_four_point_study_exact_on_a_cubic():
     by = {r.order: r for r in res}
     assert by[3].points_rms < 1e-9 and by[3].dense_rms < 1e-6   # a cubic through 4 points
     assert by[2].dense_rms > by[3].dense_rms
+    assert np.isnan(by[3].loo_rms)                              # 3 points cannot test order 3
+    assert np.isfinite(by[1].loo_rms) and np.isfinite(by[2].loo_rms)
+
+
+def test_four_point_loo_choice_on_a_quadratic():
+    temp = np.linspace(-10.0, 80.0, 91)
+    y = 0.02 * (temp - 30.0) ** 2 + 0.5 * temp
+    pts, res = four_point_study(temp, y)
+    by = {r.order: r for r in res}
+    assert by[2].loo_rms < 1e-9 and four_point_choice(res).order == 2
+    # leave-one-out by hand for order 1
+    tp, yp = temp[pts.index], y[pts.index]
+    e = [yp[i] - np.polyval(np.polyfit(np.delete(tp, i), np.delete(yp, i), 1), tp[i])
+         for i in range(4)]
+    assert by[1].loo_rms == pytest.approx(np.sqrt(np.mean(np.square(e))))
 
 
 # ---- the real curve -----------------------------------------------------------------
@@ -183,6 +198,10 @@ def test_real_mpu6000_curve():
     pts, res = four_point_study(curve.temp, x)
     assert pts.mode == "spread"                                  # 6.7-41.1 °C only
     assert {r.order for r in res} == {1, 2, 3}
+    # four points cannot see the hump: their own leave-one-out picks a line,
+    # which misses the dense curve by far more than the blocked-CV choice
+    assert four_point_choice(res).order == 1
+    assert res[0].dense_rms > 5 * choose(polys).cv_rms
 
 
 from hypothesis import given, settings, strategies as st  # noqa: E402
