@@ -49,8 +49,9 @@ from pysig import quant  # noqa: E402
 from pysig._tcomp import TcompQ  # noqa: E402
 from pysig.io import atomic_output  # noqa: E402
 from pysig.lsq import fit_poly  # noqa: E402
-from pysig.model_select import (PAPER_ORDER, bin_by_temperature, choose, four_point_choice,  # noqa: E402
-                                four_point_study, load_curve, score_sizes)
+from pysig.model_select import (CHOICE_TOLERANCE, PAPER_ORDER, bin_by_temperature,  # noqa: E402
+                                choose, four_point_choice, four_point_study, load_curve,
+                                score_sizes)
 from pysig.pwl import fit_pwl_q16  # noqa: E402
 from pysig.sim_chamber import ChamberParams, simulate  # noqa: E402
 
@@ -298,6 +299,9 @@ def summarise(name, curve, rows):
         ax["paper_order_cv_rms"] = paper["cv_rms"]
         if mine[0]["cycles"] is not None:
             ax["pareto_front"] = [(r["family"], r["size"]) for r in pareto_front(mine)]
+            cheap = cheapest_within(mine)
+            ax["cheapest_within_5pct"] = {"family": cheap["family"], "size": cheap["size"],
+                                          "cv_rms": cheap["cv_rms"], "cycles": cheap["cycles"]}
         ax["pareto_front_bytes"] = [(r["family"], r["size"]) for r in pareto_front(mine, "data_bytes")]
         out["axes"][axis] = ax
     return out
@@ -310,6 +314,17 @@ def pareto_front(rows, cost="cycles"):
         if not front or r["cv_rms"] < front[-1]["cv_rms"]:
             front.append(r)
     return front
+
+
+def model_name(r):
+    return f"order {r['size']}" if r["family"] == "poly" else f"table of {r['size']} knots"
+
+
+def cheapest_within(rows, tolerance=CHOICE_TOLERANCE, cost="cycles"):
+    """The cheapest model whose CV RMS is within `tolerance` of the best."""
+    best = min(r["cv_rms"] for r in rows)
+    return min((r for r in rows if r["cv_rms"] <= best * (1 + tolerance)),
+               key=lambda r: (r[cost], r["data_bytes"]))
 
 
 def print_table(rows):
@@ -337,6 +352,10 @@ def print_summary(summary):
                   f"four points ({fp['mode']}) at " + ", ".join(f"{t:.2f}" for t in fp["temps_c"])
                   + f" °C choose order {fp['loo_choice']} (leave-one-out); dense-curve RMS "
                   + ", ".join(f"order {k} {o[k]['dense_rms']:.2f}" for k in o))
+            if "cheapest_within_5pct" in a:
+                c = a["cheapest_within_5pct"]
+                print(f"    cheapest model within 5 % of the best CV: {c['family']} {c['size']} "
+                      f"(cv_rms {c['cv_rms']:.2f}, {c['cycles']:.0f} cycles)")
             if "pareto_front" in a:
                 print("    Pareto front (cycles, cv_rms): "
                       + ", ".join(f"{f} {n}" for f, n in a["pareto_front"]))
@@ -380,6 +399,11 @@ def plot(rows, summary, directory):
                            edgecolors="red", lw=1.5, label="paper's pick: order 2", zorder=4)
                 ax.axhline(fp[PAPER_ORDER]["dense_rms"], color="red", lw=0.8, ls=":",
                            label="order 2 fitted on the 4 paper points: RMS on the dense curve")
+                loo = s["axes"][axis]["four_point"]["loo_choice"]
+                if loo != PAPER_ORDER:
+                    ax.axhline(fp[loo]["dense_rms"], color="purple", lw=0.8, ls="-.",
+                               label=f"order {loo}, chosen by the 4 points' own leave-one-out: "
+                                     f"dense RMS")
                 ax.set_xscale("log")
                 ax.set_yscale("log")
                 ax.xaxis.set_minor_formatter(NullFormatter())
@@ -390,7 +414,19 @@ def plot(rows, summary, directory):
         subs[0][0].legend(fontsize=7, loc="best")
         fig.text(0.99, 0.01, PAPER_CLAIM, ha="right", va="bottom", fontsize=8,
                  bbox=dict(boxstyle="round", fc="lightyellow", ec="grey"))
-        fig.tight_layout(rect=(0, 0.05, 1, 1))
+        here = []
+        for axis in axes:
+            rs = [r for r in mine if r["axis"] == axis]
+            p2 = next(r for r in rs if r["family"] == "poly" and r["size"] == PAPER_ORDER)
+            best = min(rs, key=lambda r: r["cv_rms"])
+            cheap = cheapest_within(rs)
+            here.append(f"{axis}: order 2 {p2['cv_rms']:.3g} at {p2['cycles']:.0f} cycles; best "
+                        f"{model_name(best)} {best['cv_rms']:.3g} at {best['cycles']:.0f}; "
+                        f"cheapest within 5 %: {model_name(cheap)} {cheap['cv_rms']:.3g} at "
+                        f"{cheap['cycles']:.0f}")
+        fig.text(0.01, 0.01, "Measured here (blocked-CV RMS):\n" + "\n".join(here), ha="left",
+                 va="bottom", fontsize=8, bbox=dict(boxstyle="round", fc="white", ec="grey"))
+        fig.tight_layout(rect=(0, 0.08, 1, 1))
         path = directory / f"pareto_{name}.png"
         with atomic_output(path, "wb") as fh:
             fig.savefig(fh, format="png", dpi=110)

@@ -107,3 +107,11 @@ def test_pwl_table_cycles_do_not_grow_with_size(bench, monkeypatch):
     big = bench.mcu_pwl("test-pwl100", bench.pwl_models(curve, 100), 100)
     assert abs(np.mean(big["cycles"]) - np.mean(small["cycles"])) < 0.1 * np.mean(small["cycles"])
     assert big["text_bytes"] == small["text_bytes"]
+
+
+def test_cheapest_within_tolerance(bench):
+    rows = [{"family": "poly", "size": 2, "cv_rms": 1.00, "cycles": 750, "data_bytes": 25},
+            {"family": "pwl", "size": 9, "cv_rms": 1.04, "cycles": 450, "data_bytes": 28},
+            {"family": "pwl", "size": 3, "cv_rms": 3.00, "cycles": 440, "data_bytes": 16}]
+    assert bench.cheapest_within(rows)["size"] == 9
+    assert bench.cheapest_within(rows, tolerance=0.01)["size"] == 2
