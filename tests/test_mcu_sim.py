@@ -173,7 +173,7 @@ def test_chain_float_firmware_within_tolerance(target, tmp_path):
     assert (fw_stable != stable).sum() <= 2
 
 
-@pytest.mark.parametrize("order,amplitude", [(2, 300.0), (5, 300.0), (3, 2e4)])
+@pytest.mark.parametrize("order,amplitude", [(2, 300.0), (3, 2e4)])
 def test_tcomp_fast_experiment_is_bit_exact(order, amplitude, tmp_path):
     """bench/mcu/experiments/tcomp_fast.c (the 'what it would take' figure of
     bench/mcu_cost.py) computes exactly sig_tcomp_apply_q."""
