@@ -192,3 +192,26 @@ def test_cli_errors_have_their_exit_status_and_write_nothing(tmp_path, capsys, s
     assert text in capsys.readouterr().err
     assert not out.exists()
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".pysig-")]
+
+
+def test_c_float_path_equals_numpy_model_and_clamps(chamber_csv):
+    d = read_csv(chamber_csv)
+    m = fit.fit_tcomp(d["temp"], {k: d[k] for k in "xyz"}, order=4)
+    c = _tcomp.TcompF(**m.float_fields())
+    temp = np.r_[d["temp"][::50], -20.0, 95.0]
+    x = np.column_stack([np.r_[d[k][::50], 0.0, 0.0] for k in "xyz"])
+    out, status = c.apply(temp, x)
+    want = np.column_stack(m.apply_float(temp, [x[:, a] for a in range(3)]))
+    np.testing.assert_allclose(out, want, rtol=1e-12, atol=1e-9)
+    np.testing.assert_array_equal(status == 1, m.clamped(temp))
+    assert status[-1] == 1 and status[-2] == 1
+    np.testing.assert_allclose(out[-1], want[-1])                 # flat at the limit
+    np.testing.assert_allclose(m.delta(95.0, 0), m.delta(m.t_hi, 0))
+
+
+def test_export_json_is_the_same_model(tmp_path, chamber_csv):
+    mj, mj2 = tmp_path / "m.json", tmp_path / "m2.json"
+    assert main(["fit", str(chamber_csv), "--columns", "y", "--order", "3", "--t0", "30", "-o", str(mj)]) == 0
+    assert main(["export", str(mj), "--format", "json", "-o", str(mj2)]) == 0
+    a, b = tmodel.load(mj), tmodel.load(mj2)
+    assert a.to_dict() == b.to_dict() and a.t0 == 30.0 and a.order == 3

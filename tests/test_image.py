@@ -197,3 +197,11 @@ def test_sequence_numbers_wrap(seq_a, seq_b, which):
     b = slot(image.build_image([(7, b"b")], seq_b))
     assert _tcomp.image_select_slot(a, b) == (0, which) == ref.select_slot(a, b)
     assert _tcomp.image_select_slot(None, b) == (0, 1)
+
+
+def test_offset_section_with_u_shift_above_15_is_refused():
+    m = chamber_model(5, axes="x")
+    p = bytearray(image.offset_poly_payload(m))
+    p[2] = 16
+    with pytest.raises(ModelFileError, match="bad format"):
+        _tcomp.TcompQ.from_image(image.build_image([(image.SECTION_OFFSET_POLY, bytes(p))]))
