@@ -215,3 +215,25 @@ def test_export_json_is_the_same_model(tmp_path, chamber_csv):
     assert main(["export", str(mj), "--format", "json", "-o", str(mj2)]) == 0
     a, b = tmodel.load(mj), tmodel.load(mj2)
     assert a.to_dict() == b.to_dict() and a.t0 == 30.0 and a.order == 3
+
+
+def test_cli_apply_with_the_image_runs_the_c_loader(tmp_path, chamber_csv, capsys):
+    mj, img, o_img, o_fix = (tmp_path / n for n in ("m.json", "m.bin", "img.csv", "fix.csv"))
+    assert main(["fit", str(chamber_csv), "--columns", "x,z", "-o", str(mj)]) == 0
+    assert main(["export", str(mj), "--format", "image", "-o", str(img)]) == 0
+    assert main(["apply", str(chamber_csv), "--model", str(img), "--temp", "temp", "--columns", "x,z",
+                 "-o", str(o_img)]) == 0
+    assert main(["apply", str(chamber_csv), "--model", str(mj), "--fixed", "-o", str(o_fix)]) == 0
+    a, b = read_csv(o_img), read_csv(o_fix)
+    for k in ("x_comp", "z_comp", "tcomp_clamped"):
+        np.testing.assert_array_equal(a[k], b[k])
+    capsys.readouterr()
+    data = bytearray(img.read_bytes())
+    data[20] ^= 0x10                                   # one flipped bit: CRC
+    (tmp_path / "bad.bin").write_bytes(bytes(data))
+    out = tmp_path / "never.csv"
+    assert main(["apply", str(chamber_csv), "--model", str(tmp_path / "bad.bin"), "--temp", "temp",
+                 "--columns", "x,z", "-o", str(out)]) == ModelFileError.exit_status
+    assert "CRC mismatch" in capsys.readouterr().err and not out.exists()
+    assert main(["apply", str(chamber_csv), "--model", str(img), "-o", str(out)]) == 2   # no column names
+    assert not out.exists()
