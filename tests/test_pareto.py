@@ -115,3 +115,37 @@ def test_cheapest_within_tolerance(bench):
             {"family": "pwl", "size": 3, "cv_rms": 3.00, "cycles": 440, "data_bytes": 16}]
     assert bench.cheapest_within(rows)["size"] == 9
     assert bench.cheapest_within(rows, tolerance=0.01)["size"] == 2
+
+
+def test_msp430_pwl_bit_exact_on_random_tables_all_branches(bench):
+    """Random int16 tables (rails included), every rescaling branch
+    (value_frac < 4, = 4, > 4), temperatures outside the range (clamped and
+    flagged) and on the last knot: the MSP430 gives the reference's bits and
+    statuses."""
+    require_tool("clang-14", "clang")
+    require_tool("mspdebug")
+    from pysig.pwl import plan_q16
+    from pysig.reference import pwl as ref
+    rng = np.random.default_rng(20261123)
+    n = 11
+    t_lo, t_hi = -1234, 5678
+    recip = plan_q16(t_lo, t_hi, n)
+    tables = rng.integers(-32768, 32768, size=(3, n))
+    tables[0, :3] = [32767, -32768, 32767]
+    vfs = [0, 4, 15]
+    temps = np.concatenate([[-32768, t_lo - 1, t_lo, t_hi, t_hi + 1, 32767],
+                            rng.integers(t_lo, t_hi + 1, size=bench.N_TEMPS - 6)]).astype(np.int16)
+    arr = bench._arr
+    h = (f"#define N_AXES 3\n#define N_KNOTS {n}\n#define N_TEMPS {bench.N_TEMPS}\n"
+         f"#define PWL_TABLES {{{', '.join(arr(t) for t in tables)}}}\n"
+         f"#define PWL_RANGES {{{', '.join(arr([t_lo, t_hi]) for _ in range(3))}}}\n"
+         f"#define PWL_RECIPS {{{', '.join(f'UINT32_C({recip})' for _ in range(3))}}}\n"
+         f"#define PWL_VFS {arr(vfs)}\n#define TEMPS {arr(temps)}\n")
+    m = bench.measure_case("test-pwl-random", "harness_pwl.c", [ROOT / "csrc" / "sig_pwl.c"], h,
+                           "sig_pwl_eval_q16")
+    for a in range(3):
+        expect = [ref.eval_q16([int(v) for v in tables[a]], t_lo, t_hi, recip, vfs[a], int(t))
+                  for t in temps]
+        assert [int(v) for v in m["out"][a]] == [e[0] for e in expect]
+        assert [int(s) for s in m["status"][a]] == [e[1] for e in expect]
+    assert list(m["status"][0][:6]) == [1, 1, 0, 0, 1, 1]
