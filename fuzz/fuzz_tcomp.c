@@ -67,7 +67,7 @@ static void fuzz_fixed(fuzz_input *in)
         int32_t half;
         n_axes = (uint8_t)(1u + n_axes % 3u);
         order = (uint8_t)(1u + order % 8u);
-        u_shift %= 31u;
+        u_shift %= 16u;
         if (t_lo > t_hi) { int16_t x = t_lo; t_lo = t_hi; t_hi = x; }
         if (t_lo == t_hi) t_hi = (int16_t)(t_lo == INT16_MAX ? t_lo : t_lo + 1), t_lo = (int16_t)(t_hi - 1);
         t_center = (int16_t)(((int32_t)t_lo + t_hi) / 2);
@@ -78,7 +78,12 @@ static void fuzz_fixed(fuzz_input *in)
         }
     }
     n_coef = (n_axes >= 1 && n_axes <= 3 && order >= 1 && order <= 8) ? n_axes * (order + 1u) : 27u;
-    for (k = 0; k < n_coef && k < 27u; k++) coef[k] = fuzz_i32_edgy(in);
+    for (k = 0; k < n_coef && k < 27u; k++) {
+        /* steer bit 2: moderate coefficients, so init proves no overflow and
+         * the unsaturated Horner fast path runs */
+        if (steer & 4u) coef[k] = (int32_t)fuzz_i16(in) * (INT32_C(1) << (fuzz_u8(in) % 15u));
+        else coef[k] = fuzz_i32_edgy(in);
+    }
     for (a = 0; a < 3; a++) q[a] = (steer & 2u) ? fuzz_u8(in) : (uint8_t)(fuzz_u8(in) % 31u);
 
     memset(&m, 0x3C, sizeof m);

@@ -141,11 +141,21 @@ def seeds_effects():
           + f32(1.0, 0.1, 0.01, 0, 0, 0, 0, 0, 0) + f32(0.01, 0.02, 0.03) + f32(*F_SPECIAL))
 
 
+def seeds_tcomp_fast_path():
+    # steer 5: valid counts and scaling, moderate coefficients (i16, shift byte)
+    coefs = b"".join(struct.pack("<h", v) + bytes([s]) for v, s in
+                     [(1200, 10), (-300, 4), (77, 0), (5, 2), (-5, 1), (100, 8), (-100, 8), (1, 0), (2, 0)])
+    body = bytes([0, 2, 1, 5, 9]) + struct.pack("<5h", -4000, 8500, 2250, 2500, 300) + coefs
+    body += bytes([12, 12, 0]) + struct.pack("<8h", -32768, -32768, 32767, 32767, 2500, 100, -100, 0)
+    write("tcomp", "seed-q-fast-path", body)
+
+
 if __name__ == "__main__":
     seeds_types()
     seeds_pwl()
     seeds_image()
     seeds_tcomp()
+    seeds_tcomp_fast_path()
     seeds_chain()
     seeds_scale()
     seeds_effects()
