@@ -32,8 +32,8 @@ import vectors  # noqa: E402
 
 CSRC = runner.CSRC
 HARNESS = ROOT / "bench" / "mcu" / "harness"
-TCOMP_SRC = [CSRC / "sig_tcomp.c", CSRC / "sig_poly.c", CSRC / "sig_image.c", CSRC / "sig_crc16.c"]
-CHAIN_SRC = [CSRC / f"sig_{m}.c" for m in ("chain", "limit", "antipulse", "kalman1", "stable")]
+TCOMP_SRC = runner.csrc_sources("sig_tcomp")     # + sig_poly, sig_image, sig_crc16
+CHAIN_SRC = runner.csrc_sources("sig_chain")     # + limit, antipulse, kalman1, stable, ...
 MCLK_HZ = 8_000_000          # MSP430F5510 as in the paper
 I_ACTIVE_A = 1.56e-3         # active current at 8 MHz (the paper's figure)
 MCS51_HZ = 12_000_000
@@ -54,7 +54,7 @@ def tcomp_ops(form: str, order: int, axes: int = AXES) -> dict:
     if form == "fixed":
         return {"mul16x16": 1 + 2 * order * axes,
                 "add32": 2 + axes * (2 * order + 3),
-                "shift32_var": 1 + 2 * axes,
+                "shift32": 1 + 2 * axes,
                 "compare": 2 + axes * (2 * order + 2),
                 "load16": 6 + axes * (2 * (order + 1) + 2),
                 "store16": axes}
@@ -289,13 +289,33 @@ def main(argv=None):
     ap.add_argument("--vdd", type=float, default=3.3, help="supply voltage for the energy column (V)")
     ap.add_argument("--orders", default="1-5", help="polynomial orders, e.g. 1-5 or 2,4")
     ap.add_argument("--no-8051", action="store_true", help="skip the 8051 rows")
+    ap.add_argument("--table", choices=["1", "2", "all"], default="all", help="which table(s)")
     a = ap.parse_args(argv)
 
-    t1 = []
-    for hw in (True, False):
+    t1, t2, t3 = [], [], []
+    for hw in (True, False) if a.table in ("1", "all") else ():
         for form in ("fixed", "float"):
             for order in _orders(a.orders):
                 t1.append(tcomp_row(order, form, hw, a.vdd))
+    if t1:
+        print_table1(t1, a)
+    if a.table in ("2", "all"):
+        t2, t3 = table2(a)
+    checks, profiles, experiment = targets(t1, t2, a)
+    if a.json:
+        a.json.parent.mkdir(parents=True, exist_ok=True)
+        a.json.write_text(json.dumps({
+            "meta": {"mclk_hz": MCLK_HZ, "i_active_a": I_ACTIVE_A, "vdd_v": a.vdd,
+                     "msp430_sim": "mspdebug 0.22 sim, classic MSP430 cycle table",
+                     "msp430_helpers": "bench/mcu/msp430 (rt_hwmul.c with MPY_BASE=0x0130 for hw)",
+                     "mcs51_sim": "ucsim s51 0.6.4 -t C52 (12T); 1T estimate = opcode histogram "
+                                  "x STC-Y5 published clocks (bench/mcu/mcs51/timing.py)"},
+            "table1": t1, "table2": t2, "mcs51_tcomp": t3, "targets": checks,
+            "experiment_tcomp_fast": experiment, "profiles": profiles}, indent=1))
+        print(f"\nwrote {a.json}")
+
+
+def print_table1(t1, a):
     print(f"Table 1 - temperature compensation, 3 axes, MSP430F5510 @ 8 MHz "
           f"(mspdebug 0.22 sim, classic MSP430 timing), energy at {I_ACTIVE_A * 1e3:.2f} mA, "
           f"{a.vdd} V")
@@ -306,6 +326,9 @@ def main(argv=None):
     for order in _orders(a.orders):
         print(f"  order {order}: {tcomp_ops('fixed', order)} | {tcomp_ops('float', order)}")
 
+
+
+def table2(a):
     case = vectors.chain_case()
     t2 = [chain_rows_msp430(f, hw, case, a.vdd) for hw in (True, False) for f in ("fixed", "float")]
     if not a.no_8051:
@@ -324,13 +347,15 @@ def main(argv=None):
     t3 = [] if a.no_8051 else [tcomp_row_mcs51(2)]
     if t3:
         print("\n8051 compensation, order 2, 3 axes:", json.dumps(t3[0]))
+    return t2, t3
 
-    # targets
+
+def targets(t1, t2, a):
     def pick(form, order, hw=True):
         return next(r for r in t1 if r["form"] == form and r["order"] == order
                     and (r["multiplier"] != "none") == hw)
     checks = []
-    if 2 in _orders(a.orders):
+    if t1 and 2 in _orders(a.orders):
         q2, f2 = pick("fixed", 2), pick("float", 2)
         checks.append({"target": "fixed order-2, 3 axes, MSP430 hw <= 300 cycles",
                        "measured": q2["cycles"], "met": q2["cycles"] <= 300})
@@ -360,18 +385,12 @@ def main(argv=None):
         print("  profile of sig_tcomp_apply_q (order 2, hw), instructions per function:")
         for p in prof:
             print(f"    {p['function']:<24} {p['instructions']:>6} instr  {p['calls']:>3} calls")
-    if a.json:
-        a.json.parent.mkdir(parents=True, exist_ok=True)
-        a.json.write_text(json.dumps({
-            "meta": {"mclk_hz": MCLK_HZ, "i_active_a": I_ACTIVE_A, "vdd_v": a.vdd,
-                     "msp430_sim": "mspdebug 0.22 sim, classic MSP430 cycle table",
-                     "msp430_helpers": "bench/mcu/msp430 (rt_hwmul.c with MPY_BASE=0x0130 for hw)",
-                     "mcs51_sim": "ucsim s51 0.6.4 -t C52 (12T); 1T estimate = opcode histogram "
-                                  "x STC-Y5 published clocks (bench/mcu/mcs51/timing.py)"},
-            "table1": t1, "table2": t2, "mcs51_tcomp": t3, "targets": checks,
-            "experiment_tcomp_fast": experiment,
-            "profiles": profiles}, indent=1))
-        print(f"\nwrote {a.json}")
+        lines = runner.profile_lines(img, "sig_tcomp_apply_q", pick("fixed", 2)["instructions"])
+        profiles["sig_tcomp_apply_q order 2 hw, by source line"] = lines
+        print("  ... by source line (csrc/ as built; inlined code at its own line):")
+        for p in lines[:12]:
+            print(f"    {p['line']:<24} {p['instructions']:>6} instr")
+    return checks, profiles, experiment
 
 
 if __name__ == "__main__":

@@ -12,15 +12,15 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import CSRC, ROOT, require_tool
+from conftest import ROOT, require_tool
 
 sys.path.insert(0, str(ROOT / "bench" / "mcu"))
 import runner  # noqa: E402
 import vectors  # noqa: E402
 
 HARNESS = ROOT / "bench" / "mcu" / "harness"
-TCOMP_SRC = [CSRC / "sig_tcomp.c", CSRC / "sig_poly.c", CSRC / "sig_image.c", CSRC / "sig_crc16.c"]
-CHAIN_SRC = [CSRC / f"sig_{m}.c" for m in ("chain", "limit", "antipulse", "kalman1", "stable")]
+TCOMP_SRC = runner.csrc_sources("sig_tcomp")     # + sig_poly, sig_image, sig_crc16
+CHAIN_SRC = runner.csrc_sources("sig_chain")     # + limit, antipulse, kalman1, stable, ...
 
 # float32 firmware vs float64 host: |difference| <= REL * max(1, |value|)
 TCOMP_F_REL = 2e-6       # a few float32 ulps of a reading of up to 32768 LSB

@@ -46,7 +46,7 @@ CRT_FLOAT_FILES = ("addsf3", "subsf3", "mulsf3", "divsf3", "comparesf2")
 SIM_TIMEOUT = 120          # seconds per simulator run
 STACK_PATTERN = (0xA5, 0x5A)
 
-MSP430_CFLAGS = ["--target=msp430", "-O2", "-ffreestanding", "-nostdlib", "-std=c99",
+MSP430_CFLAGS = ["--target=msp430", "-O2", "-g", "-ffreestanding", "-nostdlib", "-std=c99",
                  "-Wall", "-Wextra", "-Wconversion", "-Wdouble-promotion", "-pedantic",
                  "-Werror", "-ffunction-sections", "-fdata-sections"]
 MSP430_MPY_BASE_SIM = "0x0130"     # mspdebug 0.22's simulated multiplier
@@ -481,6 +481,16 @@ def profile(img: Image, func: str, n_instructions: int) -> list[dict]:
     to the function containing its address.  Rows: function, instructions
     (exclusive), calls (entries at its first address), sorted by instructions.
     MSP430 only (mspdebug `step`); 8051 histograms come from measure()."""
+    return _profile(img, func, n_instructions, by_line=False)
+
+
+def profile_lines(img: Image, func: str, n_instructions: int) -> list[dict]:
+    """As profile(), per source line (file:line from the debug information,
+    inlined code attributed to the line it was inlined from)."""
+    return _profile(img, func, n_instructions, by_line=True)
+
+
+def _profile(img, func, n_instructions, by_line):
     if img.target != "msp430":
         raise McuError("profile() is for MSP430 images")
     funcs = sorted((a, n) for n, a in img.symbols.items()
@@ -493,6 +503,22 @@ def profile(img: Image, func: str, n_instructions: int) -> list[dict]:
                           "delbreak"] + ["step"] * n_instructions)
     pcs = [int(p, 16) for p in re.findall(r"\(\s*PC: ([0-9a-f]{5})\)", out)][1:]
     rows = {}
+    if by_line:
+        addrs = sorted(set(pcs[:n_instructions]))
+        sym = _run([tool("llvm-addr2line-14", "llvm-addr2line"), "-e", img.path,
+                    *[f"{a:#x}" for a in addrs]])
+        where = dict(zip(addrs, (ln.strip() for ln in sym.splitlines())))
+        import bisect
+        funcs = sorted((a, n) for n, a in img.symbols.items() if img.sizes.get(n, 0) > 0)
+        starts = [a for a, _ in funcs]
+        for pc in pcs[:n_instructions]:
+            loc = re.sub(r"^.*/", "", where.get(pc, "?"))
+            if loc.startswith("??"):              # no line info (runtime helpers)
+                i = bisect.bisect_right(starts, pc) - 1
+                loc = funcs[i][1] if i >= 0 else f"{pc:#x}"
+            r = rows.setdefault(loc, {"line": loc, "instructions": 0})
+            r["instructions"] += 1
+        return sorted(rows.values(), key=lambda r: -r["instructions"])
     for pc in pcs[:n_instructions]:           # the first PC is the entry: executed next
         i = bisect.bisect_right(starts, pc) - 1
         name = funcs[i][1] if i >= 0 else f"{pc:#x}"
@@ -545,3 +571,23 @@ def mcs51_module_sizes(img: Image, module: str) -> dict:
     text = (img.path.parent / f"{module}.rel").read_text()
     return {m.group(1): int(m.group(2), 16)
             for m in re.finditer(r"^A (\S+) size ([0-9A-F]+)", text, re.M)}
+
+
+def csrc_sources(*modules: str) -> list[Path]:
+    """The csrc/*.c files a module needs: the closure over `#include "x.h"`
+    (in headers and sources) of x.c files that exist.  csrc_sources("sig_chain")
+    follows the files as they are today, so a helper moved into its own .c
+    is picked up without touching the benches."""
+    todo = [CSRC / f"{m}.c" for m in modules]
+    seen, out = set(), []
+    while todo:
+        f = todo.pop()
+        if f in seen or not f.exists():
+            continue
+        seen.add(f)
+        if f.suffix == ".c":
+            out.append(f)
+        for inc in re.findall(r'^\s*#\s*include\s+"([^"]+)"', f.read_text(), re.M):
+            h = CSRC / inc
+            todo += [h, h.with_suffix(".c")]
+    return sorted(out)
