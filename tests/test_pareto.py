@@ -149,3 +149,48 @@ def test_msp430_pwl_bit_exact_on_random_tables_all_branches(bench):
         assert [int(v) for v in m["out"][a]] == [e[0] for e in expect]
         assert [int(s) for s in m["status"][a]] == [e[1] for e in expect]
     assert list(m["status"][0][:6]) == [1, 1, 0, 0, 1, 1]
+
+
+def test_msp430_pwl_float_within_tolerance(bench):
+    """The float form on the MSP430 (float32, compiler-rt soft float) against
+    the reference in float64: within a few float32 ulps of the table's scale;
+    clamping and NaN flagged the same."""
+    require_tool("clang-14", "clang")
+    require_tool("mspdebug")
+    import runner
+    from pysig.reference import pwl as ref
+    rng = np.random.default_rng(7)
+    n = 13
+    table = np.float32(rng.uniform(-500.0, 500.0, n))
+    t_lo, t_hi = np.float32(-12.5), np.float32(61.25)
+    inv_step = np.float32((n - 1) / (float(t_hi) - float(t_lo)))
+    temps = np.float32(np.concatenate([[-100.0, t_lo, t_hi, 100.0, np.nan],
+                                       rng.uniform(t_lo, t_hi, bench.N_TEMPS - 5)]))
+
+    def lit(v):
+        v = float(v)
+        return "(0.0f/0.0f)" if np.isnan(v) else repr(v) + "f"
+
+    d = bench._case_dir("test-pwl-float")
+    (d / "pareto_case.h").write_text(
+        f"#define N_KNOTS {n}\n#define N_TEMPS {bench.N_TEMPS}\n"
+        f"#define TABLE_F {{{', '.join(lit(v) for v in table)}}}\n"
+        f"#define TEMPS_F {{{', '.join(lit(v) for v in temps)}}}\n"
+        f"#define T_LO_F {lit(t_lo)}\n#define T_HI_F {lit(t_hi)}\n#define INV_STEP_F {lit(inv_step)}\n")
+    img = runner.build_msp430([ROOT / "csrc" / "sig_pwl_f.c"], bench.HERE / "harness_pwl_f.c",
+                              include_dirs=[d], hwmult=True, name="test-pwl-float")
+    res = runner.measure(img, funcs=["sig_pwl_eval_f"], regions=["bench_start:bench_stop"],
+                         reads={"out": 4 * bench.N_TEMPS, "status": 2 * bench.N_TEMPS,
+                                "init_status": 2}, stack=False)
+    assert res["reads"]["init_status"] == b"\0\0"
+    out = np.frombuffer(res["reads"]["out"], "<f4")
+    status = np.frombuffer(res["reads"]["status"], "<i2")
+    scale = float(np.abs(table).max())
+    for t, y, s in zip(temps, out, status):
+        ry, rs = ref.eval_f([float(v) for v in table], float(t_lo), float(t_hi), float(inv_step),
+                            float(t))
+        assert s == rs
+        if rs >= 0:
+            assert abs(float(y) - ry) <= 8 * np.finfo(np.float32).eps * scale
+    assert list(status[:5]) == [1, 0, 0, 1, -2]
+    assert res["funcs"]["sig_pwl_eval_f"]["cycles"] > 0
