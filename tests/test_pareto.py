@@ -194,3 +194,9 @@ def test_msp430_pwl_float_within_tolerance(bench):
             assert abs(float(y) - ry) <= 8 * np.finfo(np.float32).eps * scale
     assert list(status[:5]) == [1, 0, 0, 1, -2]
     assert res["funcs"]["sig_pwl_eval_f"]["cycles"] > 0
+
+
+def test_missing_real_curve_is_a_clear_error(bench, monkeypatch, tmp_path):
+    monkeypatch.setattr(bench, "MPU_CSV", tmp_path / "absent.csv")
+    with pytest.raises(SystemExit, match="absent.csv not found.*not bundled"):
+        bench.datasets(["mpu6000"])
