@@ -123,6 +123,12 @@ def case_text(cmd, text, name="in.csv"):
             return _fit()(src, out), out
         if cmd == "apply":
             return ["apply", str(src), "--model", str(model), "-o", str(out)], out
+        if cmd == "calibrate-scale":
+            out = tmp / "cal.json"
+            return ["calibrate-scale", str(src), "--mass", "kg", "--counts", "counts", "-o", str(out)], out
+        if cmd == "demo":
+            out = tmp / "pysig_demo_lc1.png"
+            return ["demo", "--csv", str(src), "--out", str(tmp)], out
         if cmd == "refine":
             out = tmp / "refine.json"
             return ["refine", str(src), "--time", "t", "--temp", "temp", "--columns", "x",
@@ -163,6 +169,10 @@ REFINE = [",".join(r) for r in refine_rows()]
 
 def _with_row(rows, i, row):
     return rows[:i] + [row] + rows[i:]
+
+
+# standard masses on an HX711-class 24-bit converter: codes -8388608..8388607
+SCALE = "kg,counts\n" + "".join(f"{m},{-8000 + 20000 * m + d}\n" for m in (0, 1, 2, 5, 10) for d in (-1, 0, 1))
 
 
 CHAMBER = chamber_rows()
@@ -221,6 +231,23 @@ CASES = [
     ("export-truncated-model", case_model("export", lambda t: t[: len(t) - 7]), ModelFileError, ["model_bad.json"]),
     ("export-bit-flipped-model", case_model("export", _flip_digit), ModelFileError, ["model_bad.json"]),
     ("export-wrong-model-version", case_model("export", _wrong_version), ModelFileError, ["version"]),
+    # calibrate-scale: counts -> mass from standard masses
+    ("calibrate-scale-empty-file", case_text("calibrate-scale", ""), InputFileError, ["in.csv", "empty"]),
+    ("calibrate-scale-header-only", case_text("calibrate-scale", "kg,counts\n"), InputFileError,
+     ["in.csv", "header only"]),
+    ("calibrate-scale-missing-column", case_text("calibrate-scale", SCALE.replace("counts", "code")),
+     InputFileError, ["in.csv", "counts", "missing"]),
+    ("calibrate-scale-non-numeric", case_text("calibrate-scale", SCALE.replace("\n5,", "\n5,x", 1)),
+     InputFileError, ["in.csv", "row 11", "counts"]),
+    ("calibrate-scale-nan", case_text("calibrate-scale", SCALE.replace("\n5,", "\n5,nan\n5,", 1)),
+     NonFiniteError, ["in.csv", "row 11", "counts", "nan"]),
+    ("calibrate-scale-one-mass", case_text("calibrate-scale", "kg,counts\n" + "2,40000\n" * 5),
+     InsufficientDataError, ["2 distinct masses"]),
+    ("calibrate-scale-saturated-adc", case_text("calibrate-scale", SCALE + "20,8388607\n"),
+     SaturationError, ["in.csv", "row 17", "counts", "8388607", "saturat"]),
+    # demo on a user's copy of the recording
+    ("demo-empty-file", case_text("demo", ""), InputFileError, ["in.csv", "empty"]),
+    ("demo-missing-column", case_text("demo", "a,b\n1,2\n"), InputFileError, ["in.csv", "missing column"]),
     # refine: effects on measured data with a time column
     ("refine-empty-file", case_text("refine", ""), InputFileError, ["in.csv", "empty"]),
     ("refine-header-only", case_text("refine", REFINE_HEADER), InputFileError, ["in.csv", "header only"]),
