@@ -42,12 +42,19 @@ def _tools(target):
 # --stack-auto they live on the stack instead (bench/mcu/README.md).
 MCS51_TCOMP_FLAGS = ["--stack-auto"]
 
-# The chain does not link for the 8051 in either model (measured: 592 bytes
-# of DSEG demand; with --stack-auto the stack passes 0xFF).  Strict xfail: the
-# day csrc/ fits, these tests pass and the marker must go.
-CHAIN_8051 = pytest.param("mcs51", marks=pytest.mark.xfail(
-    raises=runner.McuError, strict=True,
-    reason="csrc chain modules need more 8051 internal RAM than exists (see README)"))
+# The chain did not link for the 8051 (sdcc keeps every function's spill
+# temporaries in the 128-byte direct RAM; measured demand ~590 bytes).  While
+# that holds the 8051 chain tests xfail with the linker's message; the day
+# csrc/ fits, they run the full comparison and must pass.
+def _build_chain_mcs51(defines, gen):
+    try:
+        return runner.build_mcs51(CHAIN_SRC, HARNESS / "chain_harness.c", defines,
+                                  include_dirs=[gen])
+    except runner.McuError as e:
+        if "internal RAM" in str(e):
+            pytest.xfail("csrc chain does not fit the 8051's internal RAM: " +
+                         "; ".join(ln for ln in str(e).splitlines() if "ASlink-Error" in ln))
+        raise
 
 
 def _build(target, sources, harness, defines, gen, hwmult=True, mcs51_flags=()):
@@ -137,9 +144,7 @@ def _chain_reads(img, n, real):
         np.frombuffer(r["vec_status"], "<i2")
 
 
-@pytest.mark.parametrize("target,hwmult", [("msp430", True), ("msp430", False),
-                                           pytest.param(*CHAIN_8051.values, None,
-                                                        marks=CHAIN_8051.marks)],
+@pytest.mark.parametrize("target,hwmult", [("msp430", True), ("msp430", False), ("mcs51", None)],
                          ids=["msp430-hw", "msp430-sw", "mcs51"])
 def test_chain_fixed_firmware_equals_host_and_reference(target, hwmult, tmp_path):
     _tools(target)
@@ -147,7 +152,8 @@ def test_chain_fixed_firmware_equals_host_and_reference(target, hwmult, tmp_path
     from pysig.reference.chain import Chain as RefChain
     case = vectors.chain_case()
     vectors.write_chain_header(case, tmp_path / "chain_vectors.h")
-    img = _build(target, CHAIN_SRC, HARNESS / "chain_harness.c", [], tmp_path, hwmult)
+    img = (_build_chain_mcs51([], tmp_path) if target == "mcs51" else
+           _build(target, CHAIN_SRC, HARNESS / "chain_harness.c", [], tmp_path, hwmult))
     fw_q7, fw_stable, fw_st = _chain_reads(img, len(case.x), real=False)
     for chain in (Chain(case.preset, fixed=True), RefChain(case.preset, fixed=True)):
         out, stable, st = chain.process(case.x.astype(float), flags=True)
@@ -157,13 +163,14 @@ def test_chain_fixed_firmware_equals_host_and_reference(target, hwmult, tmp_path
     assert fw_stable.any() and (fw_st != 0).any()    # settles, and rejects the impulses
 
 
-@pytest.mark.parametrize("target", ["msp430", CHAIN_8051])
+@pytest.mark.parametrize("target", ["msp430", "mcs51"])
 def test_chain_float_firmware_within_tolerance(target, tmp_path):
     _tools(target)
     from pysig.chain import Chain
     case = vectors.chain_case()
     vectors.write_chain_header(case, tmp_path / "chain_vectors.h")
-    img = _build(target, CHAIN_SRC, HARNESS / "chain_harness.c", ["BENCH_FLOAT"], tmp_path)
+    img = (_build_chain_mcs51(["BENCH_FLOAT"], tmp_path) if target == "mcs51" else
+           _build(target, CHAIN_SRC, HARNESS / "chain_harness.c", ["BENCH_FLOAT"], tmp_path))
     fw, fw_stable, fw_st = _chain_reads(img, len(case.x), real=True)
     out, stable, st = Chain(case.preset).process(case.x.astype(float), flags=True)
     np.testing.assert_array_equal(fw_st, st)
