@@ -14,6 +14,9 @@
  *   - a found section lies inside [12, total_len - 2);
  *   - sig_tcomp_load_image leaves the model untouched on error, and a loaded
  *     model is in range and can be applied to any temperature and reading;
+ *   - sig_pwl_load_image (storage in an exactly sized heap buffer, room
+ *     fuzzed) writes nothing on error; loaded tables evaluate at any
+ *     temperature within the storage;
  *   - for an accepted image: any single bit flip outside the length field,
  *     and any truncation below total_len, is rejected; the A/B loader then
  *     keeps the good slot, and of two good slots picks the newer sequence. */
@@ -22,6 +25,7 @@
 #include "fuzz_input.h"
 #include "sig_crc16.h"
 #include "sig_image.h"
+#include "sig_pwl.h"
 #include "sig_tcomp.h"
 
 #define REQUIRE(cond) do { if (!(cond)) abort(); } while (0)
@@ -95,6 +99,43 @@ static void check_model(const sig_tcomp_q *m, fuzz_input *in)
     }
 }
 
+static void check_pwl_loader(const uint8_t *buf, size_t len, sig_status image_status, fuzz_input *in)
+{
+    uint8_t max_axes = (uint8_t)(fuzz_u8(in) % 5u), n_axes = 0xEE, a;
+    uint16_t room = (uint16_t)(fuzz_u8(in) & 1u ? 3u * 255u : fuzz_u16(in) % 800u);
+    int16_t *storage = malloc(room ? room * sizeof *storage : 1u), *storage_before;
+    sig_pwl_q16 tables[4], tables_before[4];
+    sig_status st;
+    memset(storage, 0x4D, room ? room * sizeof *storage : 1u);
+    storage_before = malloc(room ? room * sizeof *storage : 1u);
+    memcpy(storage_before, storage, room ? room * sizeof *storage : 1u);
+    memset(tables, 0x3E, sizeof tables);
+    memcpy(tables_before, tables, sizeof tables);
+    st = sig_pwl_load_image(tables, max_axes, &n_axes, storage, room, buf, len);
+    if (st != SIG_OK) {
+        REQUIRE(st == SIG_ERR_FORMAT || st == SIG_ERR_CRC || st == SIG_ERR_EMPTY || st == SIG_ERR_ARG);
+        if (image_status != SIG_OK) REQUIRE(st == image_status);
+        REQUIRE(n_axes == 0xEE && memcmp(tables, tables_before, sizeof tables) == 0);
+        REQUIRE(memcmp(storage, storage_before, room ? room * sizeof *storage : 1u) == 0);
+    } else {
+        REQUIRE(image_status == SIG_OK && n_axes >= 1 && n_axes <= max_axes && n_axes <= 3);
+        REQUIRE(memcmp(&tables[n_axes], &tables_before[n_axes], sizeof tables[0] * (4u - n_axes)) == 0);
+        for (a = 0; a < n_axes; a++) {
+            int16_t ts[4] = {INT16_MIN, INT16_MAX, tables[a].t_lo, tables[a].t_hi};
+            int k;
+            REQUIRE(tables[a].table >= storage && tables[a].table + tables[a].n_knots <= storage + room);
+            for (k = 0; k < 6; k++) {
+                int32_t out;
+                int16_t t = k < 4 ? ts[k] : fuzz_i16(in);
+                st = sig_pwl_eval_q16(&tables[a], t, &out);
+                REQUIRE(st == ((t < tables[a].t_lo || t > tables[a].t_hi) ? SIG_WARN_CLAMPED : SIG_OK));
+            }
+        }
+    }
+    free(storage);
+    free(storage_before);
+}
+
 static void check_image(const uint8_t *img, size_t len, int sealed, fuzz_input *in)
 {
     uint8_t *buf = copy_exact(img, len);
@@ -132,6 +173,8 @@ static void check_image(const uint8_t *img, size_t len, int sealed, fuzz_input *
         REQUIRE(st != SIG_OK || st2 != SIG_ERR_CRC);
         REQUIRE(memcmp(&m, &before, sizeof m) == 0);
     }
+
+    check_pwl_loader(buf, len, st, in);
 
     if (st == SIG_OK) {
         size_t total = rd16(buf + 6), bit = fuzz_u16(in) % (total * 8u), cut = fuzz_u16(in) % total;
@@ -210,6 +253,32 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
         }
         if (extra & 4u) { wr16(img + pos, SIG_SECTION_PWL_TABLE); wr16(img + pos + 2, 0); pos += 4; }
+        if (extra & 8u) {
+            /* a table section: axes, knots, range, recip (derived unless bit 4), entries */
+            unsigned t_axes = 1u + fuzz_u8(&in) % 3u, knots = 2u + fuzz_u8(&in) % 40u, plen2;
+            int16_t lo = fuzz_i16(&in), hi = fuzz_i16(&in);
+            uint32_t recip = (uint32_t)fuzz_take_bits(&in, 4);
+            if (lo > hi) { int16_t x = lo; lo = hi; hi = x; }
+            if (lo == hi) hi = (int16_t)(lo == INT16_MAX ? lo : lo + 1), lo = (int16_t)(hi - 1);
+            if (!(extra & 16u)) {
+                int64_t r = ((int64_t)(knots - 1u) << 32) / ((int32_t)hi - lo);
+                recip = r > (int64_t)UINT32_MAX ? UINT32_MAX : (uint32_t)r;
+            }
+            plen2 = 10u + t_axes * (1u + 2u * knots);
+            wr16(img + pos, SIG_SECTION_PWL_TABLE);
+            wr16(img + pos + 2, plen2);
+            img[pos + 4] = (uint8_t)t_axes;
+            img[pos + 5] = (uint8_t)knots;
+            wr16(img + pos + 6, (unsigned)(uint16_t)lo);
+            wr16(img + pos + 8, (unsigned)(uint16_t)hi);
+            wr16(img + pos + 10, recip & 0xFFFFu);
+            wr16(img + pos + 12, recip >> 16);
+            pos += 14;
+            for (a = 0; a < t_axes; a++) {
+                img[pos++] = fuzz_u8(&in) % 17u;
+                for (k = 0; k < knots; k++) { wr16(img + pos, fuzz_u16(&in)); pos += 2; }
+            }
+        }
         pos += 2;
         seal(img, pos, (uint32_t)fuzz_take_bits(&in, 4));
         check_image(img, pos, 1, &in);

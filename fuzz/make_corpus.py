@@ -150,10 +150,21 @@ def seeds_tcomp_fast_path():
     write("tcomp", "seed-q-fast-path", body)
 
 
+def seeds_image_pwl():
+    # structured image with an offset section and a table section (extra bit 3):
+    # n_axes, order, extra, u_shift, 5 x i16, q + coefs, then table: axes, knots, lo, hi, recip, vf + entries
+    body = bytes([0, 1, 8]) + bytes([14]) + struct.pack("<5h", -4000, 8500, 2250, 2500, 3670)
+    body += bytes([16]) + b"".join(edgy(v) for v in (1000, -1000, 5))
+    body += bytes([1, 7]) + struct.pack("<hhI", 670, 4110, 0) + bytes([4]) + struct.pack("<8h", *range(-400, 400, 100))
+    body += struct.pack("<hh", 2500, -5000) + i32(3) + bytes([1, 0]) + struct.pack("<h", 1000)
+    write("image", "seed-structured-pwl", b"\x02" + body)
+
+
 if __name__ == "__main__":
     seeds_types()
     seeds_pwl()
     seeds_image()
+    seeds_image_pwl()
     seeds_tcomp()
     seeds_tcomp_fast_path()
     seeds_chain()
