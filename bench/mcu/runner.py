@@ -176,10 +176,23 @@ def build_msp430(sources, harness, defines=(), *, hwmult=True, name=None,
         _run([clang, *MSP430_CFLAGS, *hw, *dflags, *inc, "-c", s, "-o", o])
         objs.append(o)
     elf = outdir / f"{name}.elf"
-    _run([lld, "-T", MCU_DIR / "msp430" / "msp430f5510.ld", "--gc-sections",
-          "--defsym=__mspabi_addf=__addsf3", "--defsym=__mspabi_subf=__subsf3",
-          "--defsym=__mspabi_mpyf=__mulsf3", "--defsym=__mspabi_divf=__divsf3",
-          "--defsym=__mspabi_cmpf=__lesf2", *_msp430_runtime(hwmult), *objs, "-o", elf])
+    link = [lld, "-T", MCU_DIR / "msp430" / "msp430f5510.ld", "--gc-sections",
+            "--defsym=__mspabi_addf=__addsf3", "--defsym=__mspabi_subf=__subsf3",
+            "--defsym=__mspabi_mpyf=__mulsf3", "--defsym=__mspabi_divf=__divsf3",
+            "--defsym=__mspabi_cmpf=__lesf2", *_msp430_runtime(hwmult)]
+    for _ in range(4):      # add the csrc/*.c that define still-undefined symbols
+        try:
+            _run([*link, *objs, "-o", elf])
+            break
+        except McuError as e:
+            extra = _csrc_defining(re.findall(r"undefined symbol: (\w+)", str(e)), sources)
+            if not extra:
+                raise
+            for s in extra:
+                o = outdir / (s.stem + ".o")
+                _run([clang, *MSP430_CFLAGS, *hw, *dflags, *inc, "-c", s, "-o", o])
+                objs.append(o)
+                sources.append(s)
     img = Image("msp430", elf, hwmult)
     _msp430_symbols(img)
     return img
@@ -207,9 +220,21 @@ def build_mcs51(sources, harness, defines=(), *, name=None, include_dirs=(),
             raise McuError(f"sdcc warning in {s}:\n{out}")
         rels.append(outdir / (s.stem + ".rel"))
     ihx = outdir / f"{harness.stem}.ihx"
-    _run([sdcc, *MCS51_CFLAGS, *extra_flags, *rels, "-o", ihx], cwd=outdir)
-    if not ihx.exists():
-        raise McuError(f"sdcc wrote no {ihx}")
+    for _ in range(4):      # add the csrc/*.c that define still-undefined symbols
+        out = _run([sdcc, *MCS51_CFLAGS, *extra_flags, *rels, "-o", ihx], cwd=outdir, check=False)
+        extra = _csrc_defining([n[1:] for n in re.findall(r"Undefined Global '(\w+)'", out)],
+                               sources)
+        if not extra:
+            break
+        for s in extra:
+            _run([sdcc, *MCS51_CFLAGS, *extra_flags, *dflags, *inc, "-c", s,
+                  "-o", str(outdir) + "/"], cwd=outdir)
+            rels.append(outdir / (s.stem + ".rel"))
+            sources.append(s)
+        if ihx.exists():
+            ihx.unlink()
+    if "ASlink-Error" in out or "Undefined Global" in out or not ihx.exists():
+        raise McuError(f"sdcc link failed in {outdir}:\n{out}")
     img = Image("mcs51", ihx)
     _mcs51_symbols(img)
     return img
@@ -571,6 +596,19 @@ def mcs51_module_sizes(img: Image, module: str) -> dict:
     text = (img.path.parent / f"{module}.rel").read_text()
     return {m.group(1): int(m.group(2), 16)
             for m in re.finditer(r"^A (\S+) size ([0-9A-F]+)", text, re.M)}
+
+
+def _csrc_defining(symbols, have) -> list[Path]:
+    """csrc/*.c files (not yet in `have`) that define one of `symbols`."""
+    found = []
+    for f in sorted(CSRC.glob("*.c")):
+        if f in have or f in found:
+            continue
+        text = f.read_text()
+        if any(re.search(r"^[A-Za-z_][^;{}()]*\b%s\s*\([^;]*$" % re.escape(n), text, re.M)
+               for n in symbols):
+            found.append(f)
+    return found
 
 
 def csrc_sources(*modules: str) -> list[Path]:
