@@ -1,9 +1,12 @@
 /* sig_antipulse.c - drop-max-and-min window mean; see sig_antipulse.h. */
 #include "sig_antipulse.h"
-#include "sig_chain_math.h"
 
+/* Exact 32-bit helpers of the fixed form: no int64, no division (a 32x32
+ * product from four 16x16 products).  Plain static functions, not inline
+ * header helpers: sdcc emits every static inline function of a header in each
+ * file that includes it, each with its own spill area in the 8051's RAM. */
 /* floor((2^32 - 1) / d) for d = 1..30 (index 0 unused): the reciprocals of
- * the trimmed-mean divisors, so the fixed form never divides. */
+ * the trimmed-mean divisors. */
 static const uint32_t recip_table[31] = {
     0u, 4294967295u, 2147483647u, 1431655765u, 1073741823u, 858993459u,
     715827882u, 613566756u, 536870911u, 477218588u, 429496729u, 390451572u,
@@ -12,6 +15,53 @@ static const uint32_t recip_table[31] = {
     178956970u, 171798691u, 165191049u, 159072862u, 153391689u, 148102320u,
     143165576u
 };
+
+/* The full product a * b = hi * 2^32 + lo from four 16x16 products, with
+ * few temporaries. */
+static uint32_t mul_wide(uint32_t a, uint32_t b, uint32_t *lo_out)
+{
+    uint32_t lo = (a & 0xFFFFu) * (b & 0xFFFFu);
+    uint32_t mid = (a >> 16) * (b & 0xFFFFu);
+    uint32_t t = (a & 0xFFFFu) * (b >> 16);
+    uint32_t hi = (a >> 16) * (b >> 16);
+    mid += t;                                      /* the two middle products, weight 2^16 */
+    if (mid < t) hi += UINT32_C(0x10000);          /* their carry has weight 2^48 */
+    t = mid << 16;
+    lo += t;
+    if (lo < t) hi++;
+    *lo_out = lo;
+    return hi + (mid >> 16);
+}
+
+/* floor(a * b / 2^32), exact for all uint32 a, b. */
+static uint32_t mulhi_u32(uint32_t a, uint32_t b)
+{
+    uint32_t lo;
+    return mul_wide(a, b, &lo);
+}
+
+/* floor(u / d) for u < 2^31, 1 <= d <= 30 */
+static uint32_t udiv_small(uint32_t u, uint8_t d)
+{
+    uint32_t q = mulhi_u32(u, recip_table[d]);
+    if (u - q * (uint32_t)d >= (uint32_t)d) q++;
+    return q;
+}
+
+/* round-half-up(s / d) = floor((s + floor(d/2)) / d) for |s| < 2^30 and
+ * 1 <= d <= 30, exact (Python: (s + d // 2) // d), without dividing:
+ * q0 = floor(u * floor((2^32-1)/d) / 2^32) is floor(u / d) or one less
+ * (since u < 2^32), so one correction makes it exact. */
+static int32_t div_round_small(int32_t s, uint8_t d)
+{
+    int32_t t;
+    if (d == 0u || d > 30u) return 0;              /* outside the contract: defined, not used */
+    t = s + (int32_t)(d >> 1);
+    if (t >= 0) return (int32_t)udiv_small((uint32_t)t, d);
+    /* floor(t / d) = -floor((-t + d - 1) / d) for t < 0 */
+    return -(int32_t)udiv_small((uint32_t)(-t) + (uint32_t)d - 1u, d);
+}
+
 
 static bool is_finite(sig_real x)
 {
@@ -157,6 +207,6 @@ sig_status sig_antipulse_step_q(sig_antipulse_q *s, int32_t x, int32_t *out)
         t = s->sum;
         d = s->count;
     }
-    *out = d == 1u ? t : sig_div_round_small(t, d, recip_table);
+    *out = d == 1u ? t : div_round_small(t, d);
     return st;
 }

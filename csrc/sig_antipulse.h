@@ -23,7 +23,7 @@
  * status SIG_WARN_CLAMPED) so a sum of 32 never overflows and a mean in
  * Q24.7 fits in int32.  The output is round-half-up(trimmed sum / d) in
  * codes, i.e. floor((s + d / 2) / d), computed exactly with a reciprocal
- * multiply and one correction (sig_chain_math.h): the MCU never divides.
+ * multiply and one correction (sig_antipulse.c): the MCU never divides.
  */
 #ifndef SIG_ANTIPULSE_H
 #define SIG_ANTIPULSE_H

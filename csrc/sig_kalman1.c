@@ -1,6 +1,49 @@
 /* sig_kalman1.c - scalar Kalman filter, float and fixed; see sig_kalman1.h. */
 #include "sig_kalman1.h"
-#include "sig_chain_math.h"
+
+#define SIG_Q30_ONE UINT32_C(1073741824)
+
+/* Exact 32-bit helpers of the fixed form: no int64, no division (a 32x32
+ * product from four 16x16 products).  Plain static functions, not inline
+ * header helpers: sdcc emits every static inline function of a header in each
+ * file that includes it, each with its own spill area in the 8051's RAM. */
+/* The full product a * b = hi * 2^32 + lo from four 16x16 products, with
+ * few temporaries. */
+static uint32_t mul_wide(uint32_t a, uint32_t b, uint32_t *lo_out)
+{
+    uint32_t lo = (a & 0xFFFFu) * (b & 0xFFFFu);
+    uint32_t mid = (a >> 16) * (b & 0xFFFFu);
+    uint32_t t = (a & 0xFFFFu) * (b >> 16);
+    uint32_t hi = (a >> 16) * (b >> 16);
+    mid += t;                                      /* the two middle products, weight 2^16 */
+    if (mid < t) hi += UINT32_C(0x10000);          /* their carry has weight 2^48 */
+    t = mid << 16;
+    lo += t;
+    if (lo < t) hi++;
+    *lo_out = lo;
+    return hi + (mid >> 16);
+}
+
+/* floor((a * b + 2^29) / 2^30): a Q30 product rounded half up; the caller
+ * guarantees the result fits in 32 bits (a * b < 2^62 - 2^29). */
+static uint32_t mul_q30(uint32_t a, uint32_t b)
+{
+    uint32_t lo;
+    uint32_t hi = mul_wide(a, b, &lo);
+    lo += UINT32_C(0x20000000);                    /* + 2^29: round half up */
+    if (lo < UINT32_C(0x20000000)) hi++;
+    return (hi << 2) | (lo >> 30);
+}
+
+/* Signed a times a Q30 gain k <= 2^30, rounded half away from zero:
+ * sign(a) * floor((|a| k + 2^29) / 2^30); |result| <= |a|. */
+static int32_t mul_q30_gain(int32_t a, uint32_t k)
+{
+    uint32_t r = mul_q30(a < 0 ? (uint32_t)0 - (uint32_t)a : (uint32_t)a, k);
+    if (a >= 0) return (int32_t)r;
+    return r >= UINT32_C(0x80000000) ? INT32_MIN : -(int32_t)r;
+}
+
 
 static bool is_finite(sig_real x)
 {
@@ -114,9 +157,9 @@ sig_status sig_kalman1_restart_q(sig_kalman1_q *s)
 /* One Newton step towards 1/d: y (2 - d y), all Q30; d < 2^32, y <= 2^30. */
 static uint32_t newton_recip(uint32_t y, uint32_t d)
 {
-    uint32_t t = sig_mul_q30_u32(d, y);
+    uint32_t t = mul_q30(d, y);
     if (t >= UINT32_C(0x80000000)) return y >> 1;   /* seed above 2/d: halve (not reached from valid seeds) */
-    return sig_mul_q30_u32(y, UINT32_C(0x80000000) - t);
+    return mul_q30(y, UINT32_C(0x80000000) - t);
 }
 
 sig_status sig_kalman1_step_q(sig_kalman1_q *s, int32_t z_q7, int32_t *out_q7)
@@ -145,7 +188,7 @@ sig_status sig_kalman1_step_q(sig_kalman1_q *s, int32_t z_q7, int32_t *out_q7)
         s->y = yn;
     }
     s->innov = sig_sat_sub32(z_q7, s->x);
-    s->x = sig_sat_add32(s->x, sig_mul_q30_gain(s->innov, SIG_Q30_ONE - s->y));
+    s->x = sig_sat_add32(s->x, mul_q30_gain(s->innov, SIG_Q30_ONE - s->y));
     *out_q7 = s->x;
     return SIG_OK;
 }

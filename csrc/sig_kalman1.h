@@ -29,7 +29,7 @@
  * computed once by sig_kalman1_init_q with a shift-and-subtract loop).
  * Once y stops changing (an exact fixed point), the gain update is skipped:
  * the steady-state step is one 32x32 multiply.  All products are Q30 with
- * round-half-up (sig_chain_math.h), no int64.
+ * round-half-up (sig_kalman1.c), no int64.
  */
 #ifndef SIG_KALMAN1_H
 #define SIG_KALMAN1_H

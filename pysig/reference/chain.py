@@ -156,7 +156,7 @@ def chain_fixed_params(p):
                 zero_rate_q7=_round_int32("zero_rate", p["zero_rate"] * 128))
 
 
-# ---- fixed-point arithmetic (csrc/sig_types.h, sig_chain_math.h) ----------
+# ---- fixed-point arithmetic (csrc/sig_types.h, sig_antipulse.c, sig_kalman1.c) ----------
 def sat32(v):
     return INT32_MIN if v < INT32_MIN else INT32_MAX if v > INT32_MAX else v
 
