@@ -103,6 +103,10 @@ def main(argv=None):
     dst = np.empty_like(x)
     t = best_time(lambda: np.copyto(dst, x), max(args.repeat, 5))
     rows.append(("numpy.copyto (memory floor)", "copy_msps", x.size, t, msps(x.size, t)))
+    # machine-speed yardstick: one dependent floating-point add per sample
+    # (any recursive filter is bound by such a chain; the chain has several)
+    t = best_time(lambda: np.cumsum(x, out=dst), max(args.repeat, 3))
+    rows.append(("numpy.cumsum (one dependent add/sample)", "cumsum_msps", x.size, t, msps(x.size, t)))
 
     fig = {key: round(v, 4) for _, key, _, _, v in rows}
     fig["kalman_over_filterpy"] = round(fig["kalman_msps"] / fig["filterpy_kalman_msps"], 1)
