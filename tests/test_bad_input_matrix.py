@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from conftest import ROOT
@@ -108,9 +108,13 @@ def case_fit(rows_fn, *extra, header=("temp", "x")):
     return build
 
 
-def case_text(cmd, text, name="in.csv"):
-    """A command on a CSV given as raw text."""
+def case_text(cmd, text, name="in.csv", extra=()):
+    """A command on a CSV given as raw text (extra: options appended)."""
     def build(tmp, model):
+        argv, out = _build_text(tmp, model)
+        return argv + list(extra), out
+
+    def _build_text(tmp, model):
         src = tmp / name
         src.write_text(text)
         out = tmp / "out.csv"
@@ -194,6 +198,12 @@ CASES = [
      NonFiniteError, ["in.csv", "row 12", "counts", "inf"]),
     ("filter-fixed-code-beyond-range", case_text("filter-fixed", WEIGH.replace("\n1.0,1001\n", "\n1.0,40000000\n")),
      SaturationError, ["in.csv", "row 12", "counts", "40000000"]),
+    ("filter-window-out-of-range", case_text("filter", WEIGH, extra=["--window", "100"]),
+     RangeError, ["window", "100", "3..32"]),
+    ("filter-nonpositive-R", case_text("filter", WEIGH, extra=["--R", "0"]), RangeError, ["R", "> 0"]),
+    ("filter-nan-parameter", case_text("filter", WEIGH, extra=["--A0", "nan"]), RangeError, ["A0", "finite"]),
+    ("filter-fixed-huge-parameter", case_text("filter-fixed", WEIGH, extra=["--A0", "1e305"]),
+     RangeError, ["A0", "1e+305"]),
     # fit: temperature-compensation training
     ("fit-empty-file", case_text("fit", ""), InputFileError, ["in.csv", "empty"]),
     ("fit-header-only", case_text("fit", "temp,x\n"), InputFileError, ["in.csv", "header only"]),
@@ -461,6 +471,32 @@ def test_api_chain_nonfinite():
     assert np.all(np.isfinite(filtered))
     with pytest.raises(NonFiniteError):
         Chain("paper", fixed=True, units_per_kg=1000.0).process(x)
+
+
+CHAIN_PARAMS = {"A0": st.floats(), "window": st.integers(-2, 40), "Q": st.floats(), "R": st.floats(),
+                "x0": st.floats(), "P0": st.floats(), "stable_step": st.floats(),
+                "stable_count": st.integers(-1, 300), "lockout_n": st.integers(-1, 300),
+                "motion_band": st.floats(), "motion_count": st.integers(-1, 300),
+                "zero_band": st.floats(), "zero_rate": st.floats()}
+
+
+@HYPO
+@given(params=st.fixed_dictionaries({}, optional=CHAIN_PARAMS), fixed=st.booleans(),
+       units=st.one_of(st.none(), st.floats(-10, 1e6)))
+@example(params={"A0": 1e305}, fixed=True, units=None)      # once an OverflowError
+@example(params={"Q": 1e300, "P0": 1e300}, fixed=False, units=None)
+def test_api_chain_arbitrary_parameters(params, fixed, units):
+    """Any parameter values: the chain is built or RangeError says why
+    (never another exception); a built chain turns finite samples into
+    finite outputs."""
+    from pysig.chain import Chain
+    try:
+        chain = Chain("recommended", fixed=fixed, units_per_kg=units, **params)
+    except RangeError:
+        return
+    x = np.concatenate([np.full(20, 1000.0), np.full(20, 5000.0), [-3e6, 3e6, 0.0]])
+    filtered, stable = chain.process(x)
+    assert filtered.shape == x.shape and np.all(np.isfinite(filtered))
 
 
 # ---- arbitrary text ------------------------------------------------------------
