@@ -97,7 +97,9 @@ sig_status sig_lag_step_f(sig_lag_f *s, sig_real x, sig_real *out)
         s->z = x;
         s->primed = true;
     } else {
-        s->z = s->z + s->alpha * (x - s->z);
+        /* convex combination: never overflows for finite z and x (the
+         * form z + alpha*(x - z) did, for x - z beyond the range) */
+        s->z = (SIG_REAL(1.0) - s->alpha) * s->z + s->alpha * x;
     }
     *out = s->z;
     return SIG_OK;
@@ -251,7 +253,7 @@ sig_status sig_creep_step_f(sig_creep_f *s, sig_real x, sig_real *contribution, 
     if (s == NULL || contribution == NULL || corrected == NULL) return SIG_ERR_ARG;
     st = sig_lag_step_f(&s->lag, x, &lagged);
     if (st != SIG_OK) return st;
-    c = s->k * (lagged - x);
+    c = s->k * lagged - s->k * x;     /* finite or +-inf, never NaN (lagged - x could overflow) */
     *contribution = c;
     *corrected = x - c;
     return SIG_OK;
@@ -437,4 +439,65 @@ sig_status sig_cross_apply_f(const sig_cross_f *c, sig_real x, const sig_real *o
     }
     *out = x - acc;
     return SIG_OK;
+}
+
+/* ---- the refined temperature model of one axis ---------------------------------------- */
+
+sig_status sig_refined_init_q(sig_refined_q *r, const sig_tcomp_q *tcomp, uint8_t axis,
+                              const sig_lag_q *lag, const sig_hyst_q *hyst, const sig_gain_q *gain)
+{
+    if (r == NULL || tcomp == NULL || axis >= tcomp->n_axes) return SIG_ERR_ARG;
+    if (lag != NULL && lag->frac != SIG_LAG_MAX_FRAC) return SIG_ERR_ARG;
+    r->tcomp = tcomp;
+    r->axis = axis;
+    r->use_lag = lag != NULL;
+    r->use_hyst = hyst != NULL;
+    r->use_gain = gain != NULL;
+    if (lag != NULL) r->lag = *lag;
+    if (hyst != NULL) r->hyst = *hyst;
+    if (gain != NULL) r->gain = *gain;
+    return sig_refined_reset_q(r);
+}
+
+sig_status sig_refined_reset_q(sig_refined_q *r)
+{
+    if (r == NULL) return SIG_ERR_ARG;
+    if (r->use_lag) (void)sig_lag_reset_q(&r->lag);
+    if (r->use_hyst) (void)sig_hyst_reset_q(&r->hyst);
+    return SIG_OK;
+}
+
+sig_status sig_refined_step_q(sig_refined_q *r, int16_t t, int16_t y, int32_t *out_q16)
+{
+    sig_status st = SIG_OK, s2;
+    int32_t lagged, delta, d16, acc, c;
+    int16_t tl = t, branch, u;
+    uint8_t q;
+    if (r == NULL || out_q16 == NULL || r->tcomp == NULL) return SIG_ERR_ARG;
+    if (r->use_lag) {
+        st = (sig_status)(st | sig_lag_step_q(&r->lag, (int32_t)t, &lagged));
+        tl = sig_sat16(lagged);
+    }
+    s2 = sig_tcomp_delta_q(r->tcomp, r->axis, tl, &delta);
+    if (s2 < 0) return s2;
+    st = (sig_status)(st | s2);
+    q = r->tcomp->q[r->axis];
+    d16 = q >= 16u ? round_shift(delta, (uint8_t)(q - 16u)) : sig_shl32_sat(delta, (uint8_t)(16u - q));
+    st = flag_rail(st, d16);
+    acc = sig_sat_sub32((int32_t)y * SIG_Q16_ONE, d16);
+    st = flag_rail(st, acc);
+    if (r->use_hyst) {
+        st = (sig_status)(st | sig_hyst_step_q(&r->hyst, tl, &branch, &c));
+        acc = sig_sat_sub32(acc, c);
+        st = flag_rail(st, acc);
+    }
+    if (r->use_gain) {
+        s2 = sig_tcomp_scale_q(r->tcomp, tl, &u);
+        if (s2 < 0) return s2;
+        s2 = sig_gain_apply_q(&r->gain, u, acc, &acc);
+        if (s2 < 0) return s2;
+        st = (sig_status)(st | s2);
+    }
+    *out_q16 = acc;
+    return st;
 }

@@ -36,12 +36,14 @@
 
 #include "sig_types.h"
 #include "sig_poly.h"
+#include "sig_tcomp.h"
 
 #define SIG_LAG_MAX_FRAC 16u
 #define SIG_CROSS_MAX_AXES 3u
 
 /* ---- first-order lag: thermal lag, creep state -----------------------------
- * z[0] = x[0];  z[k] = z[k-1] + alpha * (x[k] - z[k-1]),  alpha = 1 - exp(-dt/tau).
+ * z[0] = x[0];  z[k] = z[k-1] + alpha * (x[k] - z[k-1]),  alpha = 1 - exp(-dt/tau)
+ * (the float form computes it as (1 - alpha) z + alpha x, which cannot overflow).
  * Fixed: x int32, state z = x in Q(frac) (frac 0..16 extra fraction bits;
  *        16 for int16 temperatures, about 7 for 24-bit ADC counts);
  *        xs = sat(x * 2^frac); z += floor((xs - z) * alpha_q16 / 2^16), saturating;
@@ -181,5 +183,33 @@ sig_status sig_cross_init_q(sig_cross_q *c, const int32_t *k_q16, uint8_t n);
 sig_status sig_cross_apply_q(const sig_cross_q *c, int32_t x, const int32_t *others, int32_t *out);
 sig_status sig_cross_init_f(sig_cross_f *c, const sig_real *k, uint8_t n);
 sig_status sig_cross_apply_f(const sig_cross_f *c, sig_real x, const sig_real *others, sig_real *out);
+
+/* ---- the refined temperature model of one axis --------------------------------
+ * What the firmware runs for a model refine extended (constant-field or
+ * reference calibration of an int16 sensor):
+ *   t'    = lag(t)               when a lag is configured (frac 16), else t
+ *   delta = sig_tcomp_delta_q(tcomp, axis, t')   Q(q) LSB, clamped range
+ *   acc   = y * 2^16 - delta in Q16.16 (delta rescaled: round_shift(delta,
+ *           q - 16) for q >= 16, sig_shl32_sat(delta, 16 - q) below)
+ *   acc  -= hysteresis contribution at t' (k_q16: Q16.16 LSB per 0.01 °C)
+ *   acc   = acc * G(u(t'))       when a gain polynomial is configured
+ * out = acc, the corrected reading in Q16.16 LSB.  Status: OR of the parts'
+ * warnings (SIG_WARN_CLAMPED from the offset range, SIG_WARN_SATURATED). */
+typedef struct {
+    const sig_tcomp_q *tcomp;   /* caller-owned offset model */
+    sig_lag_q lag;
+    sig_hyst_q hyst;
+    sig_gain_q gain;
+    uint8_t axis;
+    bool use_lag, use_hyst, use_gain;
+} sig_refined_q;
+
+/* lag, hyst, gain may be NULL (effect absent); they are copied (the lag
+ * must use frac 16).  SIG_ERR_ARG for a NULL r/tcomp, axis >= n_axes or a
+ * lag with another frac. */
+sig_status sig_refined_init_q(sig_refined_q *r, const sig_tcomp_q *tcomp, uint8_t axis,
+                              const sig_lag_q *lag, const sig_hyst_q *hyst, const sig_gain_q *gain);
+sig_status sig_refined_reset_q(sig_refined_q *r);
+sig_status sig_refined_step_q(sig_refined_q *r, int16_t t, int16_t y, int32_t *out_q16);
 
 #endif /* SIG_EFFECTS_H */

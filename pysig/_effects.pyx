@@ -16,6 +16,14 @@ cdef extern from "sig_types.h":
     ctypedef double sig_real
     ctypedef int16_t sig_status
 
+cdef extern from "sig_tcomp.h":
+    ctypedef struct sig_tcomp_q:
+        pass
+    sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
+                                const int32_t *coef, const uint8_t *q,
+                                int16_t t_lo, int16_t t_hi, int16_t t_center, int16_t t0,
+                                int16_t u_mul, uint8_t u_shift)
+
 cdef extern from "sig_effects.h":
     ctypedef struct sig_lag_q:
         int32_t z
@@ -52,6 +60,11 @@ cdef extern from "sig_effects.h":
         pass
     ctypedef struct sig_cross_f:
         pass
+    ctypedef struct sig_refined_q:
+        pass
+    sig_status sig_refined_init_q(sig_refined_q *r, const sig_tcomp_q *tcomp, uint8_t axis,
+                                  const sig_lag_q *lag, const sig_hyst_q *hyst, const sig_gain_q *gain)
+    sig_status sig_refined_step_q(sig_refined_q *r, int16_t t, int16_t y, int32_t *out_q16) nogil
     sig_status sig_lag_init_q(sig_lag_q *s, int32_t alpha_q16, uint8_t frac)
     sig_status sig_lag_step_q(sig_lag_q *s, int32_t x, int32_t *out) nogil
     sig_status sig_lag_init_f(sig_lag_f *s, sig_real alpha)
@@ -346,3 +359,51 @@ def cross_f(k, x, others):
             raise NonFiniteError(f"cross-axis: non-finite input at index {i}")
         out[i] = y
     return out
+
+
+def refined_q(t, y, offset, lag=None, hyst=None, gain=None):
+    """sig_refined_step_q over int16 temperatures t (0.01 °C) and readings y.
+
+    offset: dict coef (int32, one axis, ascending powers of u), q, t_lo, t_hi,
+    t_center, t0, u_mul, u_shift (the sig_tcomp_q fields); lag: alpha_q16 or
+    None; hyst: (width, k_q16, start) or None; gain: Q16 coefficients or None.
+    Returns (corrected readings int32 Q16.16, status int16)."""
+    cdef sig_tcomp_q m
+    cdef sig_lag_q lg
+    cdef sig_hyst_q hy
+    cdef sig_gain_q gn
+    cdef sig_refined_q r
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] c = _i32(offset["coef"])
+    cdef cnp.ndarray[cnp.uint8_t, ndim=1] qa = np.array([int(offset["q"])], dtype=np.uint8)
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] gc
+    if c.shape[0] < 2 or c.shape[0] > 9 or sig_tcomp_init_q(
+            &m, 1, <uint8_t>(c.shape[0] - 1), &c[0], &qa[0], <int16_t>offset["t_lo"],
+            <int16_t>offset["t_hi"], <int16_t>offset["t_center"], <int16_t>offset["t0"],
+            <int16_t>offset["u_mul"], <uint8_t>offset["u_shift"]) != 0:
+        raise RangeError(f"refined: sig_tcomp_init_q rejected the offset model {offset}")
+    if lag is not None and sig_lag_init_q(&lg, int(lag), 16) != 0:
+        raise RangeError(f"refined: lag alpha_q16={lag} outside 1..65536")
+    if hyst is not None and (hyst[2] not in (-1, 0, 1) or not (1 <= hyst[0] <= 32767)
+                             or sig_hyst_init_q(&hy, <int16_t>hyst[0], int(hyst[1]), <int8_t>hyst[2]) != 0):
+        raise RangeError(f"refined: hysteresis {hyst} rejected")
+    if gain is not None:
+        gc = _i32(gain)
+        if gc.shape[0] < 1 or gc.shape[0] > 9 or sig_gain_init_q(&gn, &gc[0], <uint8_t>(gc.shape[0] - 1)) != 0:
+            raise RangeError(f"refined: gain polynomial of {gc.shape[0]} coefficients rejected")
+    if sig_refined_init_q(&r, &m, 0, &lg if lag is not None else NULL,
+                          &hy if hyst is not None else NULL, &gn if gain is not None else NULL) != 0:
+        raise RangeError("refined: sig_refined_init_q rejected the model")
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] ts = np.ascontiguousarray(np.ravel(t), dtype=np.int16)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] ys = np.ascontiguousarray(np.ravel(y), dtype=np.int16)
+    cdef Py_ssize_t n = ts.shape[0], i
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.empty(n, dtype=np.int32)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
+    cdef int32_t v
+    if ys.shape[0] != n:
+        raise RangeError(f"refined: {n} temperatures for {ys.shape[0]} readings")
+    with nogil:
+        for i in range(n):
+            v = 0
+            st[i] = sig_refined_step_q(&r, ts[i], ys[i], &v)
+            out[i] = v
+    return out, st

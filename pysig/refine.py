@@ -13,8 +13,8 @@ fold on its training samples only.
 Stopping rule (the significance test): the candidate with the lowest CV RMS
 is added only if
   * its out-of-sample squared errors beat the current model's in a one-sided
-    Wilcoxon signed-rank test over `test_blocks` contiguous time blocks
-    (per-block mean squared error, paired; scipy.stats.wilcoxon) at
+    Diebold-Mariano test (mean loss differential, HAC/Newey-West standard
+    error over a window of n / `test_blocks` samples; statsmodels OLS) at
     p < alpha / (number of candidates tried in that step) (Bonferroni), and
   * the CV RMS drops by at least `min_gain` (relative; default 2 %).
 
@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import stats
+import statsmodels.api as sm
 from statsmodels.stats.diagnostic import acorr_ljungbox
 
 from . import effects as fx
@@ -115,14 +116,21 @@ def block_mse(e, blocks):
 
 
 def improvement_p(e_old, e_new, blocks):
-    """One-sided Wilcoxon signed-rank p-value that e_new's block MSEs are
-    lower than e_old's (paired by time block)."""
-    a, b = block_mse(e_old, blocks), block_mse(e_new, blocks)
-    ok = np.isfinite(a) & np.isfinite(b)
-    d = a[ok] - b[ok]
-    if d.size < 5 or np.all(d == 0):
+    """One-sided Diebold-Mariano p-value that e_new predicts better than
+    e_old: the loss differential d = e_old^2 - e_new^2 regressed on a
+    constant (statsmodels OLS) with a HAC (Newey-West) standard error whose
+    window is one time block (n / blocks samples), so autocorrelated losses
+    do not overstate the evidence."""
+    ok = np.isfinite(e_old) & np.isfinite(e_new)
+    d = e_old[ok] ** 2 - e_new[ok] ** 2
+    if d.size < 10 or not np.any(d):
         return 1.0
-    return float(stats.wilcoxon(d, alternative="greater", zero_method="zsplit").pvalue)
+    lags = int(max(1, d.size // blocks))
+    res = sm.OLS(d, np.ones(d.size)).fit(cov_type="HAC", cov_kwds={"maxlags": lags})
+    se = float(res.bse[0])
+    if not se > 0:
+        return 0.0 if d.mean() > 0 else 1.0
+    return float(stats.norm.sf(float(res.params[0]) / se))
 
 
 # ---- base model ------------------------------------------------------------------
@@ -201,17 +209,19 @@ def candidate_relations(data, model):
     return out
 
 
-def repolish(data, spec):
-    """Refit every nonlinear parameter in turn with the others held (one
-    coordinate pass), so an effect fitted before a later one is not stuck
+def repolish(data, spec, passes=2):
+    """Refit every nonlinear parameter in turn with the others held
+    (coordinate passes), so an effect fitted before a later one is not stuck
     with the value it took when the model lacked the later one."""
     model = fx.fit(data, spec)
-    for e in spec.effects:
-        fam = fx.FAMILIES[e.name]
-        if fam.param_name is None:
-            continue
-        current = [x for x in model.spec.effects if x.name != e.name]
-        model = fx.fit_param(data, fx.ModelSpec(model.spec.base_order, tuple(current)), fam, e.variant)
+    n_nonlinear = sum(1 for e in spec.effects if fx.FAMILIES[e.name].param_name)
+    for _ in range(passes if n_nonlinear > 1 else 1):
+        for e in spec.effects:
+            fam = fx.FAMILIES[e.name]
+            if fam.param_name is None:
+                continue
+            current = [x for x in model.spec.effects if x.name != e.name]
+            model = fx.fit_param(data, fx.ModelSpec(model.spec.base_order, tuple(current)), fam, e.variant)
     return model
 
 
@@ -346,9 +356,9 @@ def model_dict(data, model):
     return out
 
 
-STOP_TEST = ("add the candidate with the lowest blocked-CV RMS only if a one-sided Wilcoxon "
-             "signed-rank test over {tb} time blocks of out-of-sample MSE gives "
-             "p < {a} / (candidates tried) and the CV RMS falls by >= {g:.0%}")
+STOP_TEST = ("add the candidate with the lowest blocked-CV RMS only if a one-sided Diebold-Mariano "
+             "test on the out-of-sample squared-error differential (HAC standard error, window "
+             "n/{tb} samples) gives p < {a} / (candidates tried) and the CV RMS falls by >= {g:.0%}")
 
 
 def refine(data, opts=None):
@@ -375,13 +385,20 @@ def refine(data, opts=None):
             if name in model.spec.names() or fam.unavailable(data):
                 continue
             for v in fam.variants:
-                e_new = cv_residual(data, model.spec, opts, (fam, v))
-                tried.append((rms(e_new), name, v, e_new))
+                trial = fx.fit_param(data, model.spec, fam, v)
+                if any(fx.FAMILIES[e.name].param_name for e in model.spec.effects):
+                    # the earlier effects' parameters move with the newcomer
+                    # (a lag fitted alone absorbs part of a hysteresis)
+                    trial = repolish(data, trial.spec)
+                others = fx.ModelSpec(trial.spec.base_order,
+                                      tuple(e for e in trial.spec.effects if e.name != name))
+                e_new = cv_residual(data, others, opts, (fam, v))
+                tried.append((rms(e_new), name, v, e_new, trial))
         if not tried:
             break
         tried.sort(key=lambda x: x[0])
-        summary = [{"effect": n, "variant": v, "cv_rms": c} for c, n, v, _ in tried]
-        cv_new, name, variant, e_new = tried[0]
+        summary = [{"effect": n, "variant": v, "cv_rms": c} for c, n, v, _, _ in tried]
+        cv_new, name, variant, e_new, trial = tried[0]
         cv_old = rms(e_cv)
         p = improvement_p(e_cv, e_new, opts.test_blocks)
         threshold = opts.alpha / len(tried)
@@ -391,10 +408,9 @@ def refine(data, opts=None):
                          "p_value": p, "p_threshold": threshold, "cv_gain": gain}]
             break
         fam = fx.FAMILIES[name]
-        new_model = fx.fit_param(data, model.spec, fam, variant)
-        new_model = reselect(data, new_model, opts)
+        new_model = reselect(data, trial, opts)
         e_cv_new = cv_residual(data, new_model.spec, opts)   # CV of the model actually kept
-        eff = new_model.spec.effects[-1]
+        eff = next(e for e in new_model.spec.effects if e.name == name)
         params = fam.describe(eff)
         params["coefficients"] = {k: v for k, v in new_model.coefficients().items()
                                   if k.startswith(name + ":")}

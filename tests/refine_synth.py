@@ -23,10 +23,11 @@ def temperature_profile(dt=1.0, start=0.0):
     return t, np.interp(t, t_knots, T_knots)
 
 
-def chamber_run(effect=None, seed=0, noise=1.0, t_noise=0.02, dt=1.0, constant_field=False):
-    """dict t, temp, x, ref, ref_y, ref_z; `effect` (one name, or None for
-    clean data, or "step" for a step in time outside the library)."""
+def chamber_run(effect=None, seed=0, noise=1.0, t_noise=0.02, dt=2.0, constant_field=False):
+    """dict t, temp, x, ref, ref_y, ref_z; `effect`: one name or a tuple of
+    names, None for clean data, "step" for a step in time outside the library."""
     rng = np.random.default_rng(seed)
+    names = (effect,) if isinstance(effect, str) or effect is None else tuple(effect)
     t, T_true = temperature_profile(dt)
     n = t.size
     if constant_field:
@@ -36,23 +37,24 @@ def chamber_run(effect=None, seed=0, noise=1.0, t_noise=0.02, dt=1.0, constant_f
     ry = 300.0 * np.cos(2 * np.pi * t / 97.0)
     rz = 200.0 * np.sin(2 * np.pi * t / 331.0 + 0.4)
     T_sensor = T_true
-    if effect == "thermal_lag":
+    if "thermal_lag" in names:
         T_sensor = fx.first_order_lag(T_true, fx.lag_alpha(90.0, dt))
     offset = 30.0 + 1.5 * (T_sensor - 25.0) + 0.004 * (T_sensor - 25.0) ** 2
     y = 1.03 * r + offset
-    if effect == "gain_drift":
+    if "gain_drift" in names:
         y += r * 0.0015 * (T_sensor - 25.0)
-    elif effect == "hysteresis":
+    if "hysteresis" in names:
         w = 0.8
         y += 5.0 * (T_sensor - fx.play_operator(T_sensor, w)) / w
-    elif effect == "nonlinearity":
+    if "nonlinearity" in names:
         y += 2e-4 * r ** 2
-    elif effect == "cross_axis":
+    if "cross_axis" in names:
         y += 0.03 * ry - 0.02 * rz
-    elif effect == "step":
+    if "step" in names:
         y += np.where(t > t[-1] * 0.55, 8.0, 0.0)
-    elif effect not in (None, "thermal_lag"):
-        raise ValueError(effect)
+    unknown = set(names) - set(EFFECTS) - {None, "step"}
+    if unknown:
+        raise ValueError(unknown)
     y = y + noise * rng.standard_normal(n)
     temp = T_true + t_noise * rng.standard_normal(n)
     return {"t": t, "temp": temp, "x": y, "ref": r, "ref_y": ry, "ref_z": rz}

@@ -167,7 +167,7 @@ class LagF:
         self.z, self.primed = 0.0, False
 
     def step(self, x):
-        self.z = x if not self.primed else self.z + self.alpha * (x - self.z)
+        self.z = x if not self.primed else (1.0 - self.alpha) * self.z + self.alpha * x
         self.primed = True
         return self.z
 
@@ -193,7 +193,7 @@ class HystF:
 
 def creep_step_f(lag, k, x):
     z = lag.step(x)
-    c = k * (z - x)
+    c = k * z - k * x
     return c, x - c
 
 
@@ -208,3 +208,53 @@ def nonlin_apply_f(coef, center, inv_scale, x):
 
 def cross_apply_f(k, x, others):
     return x - sum(a * b for a, b in zip(k, others))
+
+
+# ---- the refined temperature model of one axis (sig_refined_step_q) -----------------
+
+class RefinedQ:
+    """offset: dict of sig_tcomp_q fields for one axis (coef list, q, t_lo,
+    t_hi, t_center, u_mul, u_shift); lag: alpha_q16 or None; hyst: (width,
+    k_q16, start) or None; gain: Q16 coefficient list or None."""
+
+    def __init__(self, offset, lag=None, hyst=None, gain=None):
+        from .tcomp import delta_q
+        self._delta_q = delta_q
+        self.model = {"coef": [list(offset["coef"])], "q": [offset["q"]], "t_lo": offset["t_lo"],
+                      "t_hi": offset["t_hi"], "t_center": offset["t_center"],
+                      "u_mul": offset["u_mul"], "u_shift": offset["u_shift"]}
+        self.lag = LagQ(lag, 16) if lag is not None else None
+        self.hyst = HystQ(*hyst) if hyst is not None else None
+        self.gain = list(gain) if gain is not None else None
+
+    def reset(self):
+        for part in (self.lag, self.hyst):
+            if part is not None:
+                part.reset()
+
+    def step(self, t, y):
+        from .tcomp import scale_q, sat16
+        st = SIG_OK
+        tl = t
+        if self.lag is not None:
+            v, s = self.lag.step(t)
+            st |= s
+            tl = sat16(v)
+        delta, s = self._delta_q(self.model, 0, tl)
+        st |= s
+        q = self.model["q"][0]
+        d16 = round_shift(delta, q - 16) if q >= 16 else sat32(delta << (16 - q))
+        st = rail(st, d16)
+        acc = sat32(y * Q16_ONE - d16)
+        st = rail(st, acc)
+        if self.hyst is not None:
+            _, c, s = self.hyst.step(tl)
+            st |= s
+            acc = sat32(acc - c)
+            st = rail(st, acc)
+        if self.gain is not None:
+            m = self.model
+            u, _ = scale_q(tl, m["t_lo"], m["t_hi"], m["t_center"], m["u_mul"], m["u_shift"])
+            acc, s = gain_apply_q(self.gain, u, acc)
+            st |= s
+        return acc, st
