@@ -109,10 +109,11 @@ def case_fit(rows_fn, *extra, header=("temp", "x")):
 
 
 def case_text(cmd, text, name="in.csv", extra=()):
-    """A command on a CSV given as raw text (extra: options appended)."""
+    """A command on a CSV given as raw text (extra: options appended, with
+    {tmp} replaced by the case's directory)."""
     def build(tmp, model):
         argv, out = _build_text(tmp, model)
-        return argv + list(extra), out
+        return argv + [e.format(tmp=tmp) for e in extra], out
 
     def _build_text(tmp, model):
         src = tmp / name
@@ -255,6 +256,8 @@ CASES = [
      InsufficientDataError, ["2 distinct masses"]),
     ("calibrate-scale-saturated-adc", case_text("calibrate-scale", SCALE + "20,8388607\n"),
      SaturationError, ["in.csv", "row 17", "counts", "8388607", "saturat"]),
+    ("calibrate-scale-bad-c-name", case_text("calibrate-scale", SCALE, extra=["--header", "{tmp}/cal.h", "--name", "9x"]),
+     InputFileError, ["--name", "9x", "C identifier"]),
     # demo on a user's copy of the recording
     ("demo-empty-file", case_text("demo", ""), InputFileError, ["in.csv", "empty"]),
     ("demo-missing-column", case_text("demo", "a,b\n1,2\n"), InputFileError, ["in.csv", "missing column"]),
@@ -266,6 +269,8 @@ CASES = [
     ("refine-unsorted-time",
      case_text("refine", REFINE_HEADER + "\n".join(REFINE[:50] + [REFINE[51], REFINE[50]] + REFINE[52:]) + "\n"),
      InputFileError, ["in.csv", "row 53", "'t'", "unsorted"]),
+    ("refine-alpha-out-of-range", case_text("refine", REFINE_HEADER + "\n".join(REFINE) + "\n", extra=["--alpha", "2"]),
+     RangeError, ["alpha", "2"]),
     ("refine-nan-reading", case_text("refine", REFINE_HEADER + "\n".join(_with_row(REFINE, 10, "10.5,21,nan,0")) + "\n"),
      NonFiniteError, ["in.csv", "row 12", "'x'", "nan"]),
 ]
@@ -314,6 +319,7 @@ def test_cli_bad_input(case_id, build, cls, words, existing_output, tmp_path, mo
         assert out.read_text() == SENTINEL, "a failed run touched the existing output"
     else:
         assert not out.exists(), "a failed run left an output file"
+    assert not (tmp_path / "cal.h").exists(), "a failed run left its C header"
     assert leftovers(tmp_path) == []
 
 
