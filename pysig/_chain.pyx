@@ -31,7 +31,7 @@ cdef _finite_or_raise(cnp.ndarray a, what):
     ok = np.isfinite(a)
     if not ok.all():
         i = int(np.flatnonzero(~ok)[0])
-        raise NonFiniteError(f"sample {i}: non-finite value {a[i]!r} ({what})")
+        raise NonFiniteError(f"sample {i}: non-finite value {float(a[i])!r} ({what})")
 
 
 cdef _codes(x):

@@ -14,7 +14,8 @@ fixed-point C code (samples rounded to integer codes)."""
 import numpy as np
 
 from ..chain import PRESETS, Chain
-from ..errors import InputFileError, NonFiniteError
+from ..errors import InputFileError, NonFiniteError, SaturationError
+from ..reference.chain import CODE_MAX
 from ..io import read_csv, write_csv
 
 # option -> (parameter name, type, help)
@@ -73,7 +74,13 @@ def run(args):
     bad = np.flatnonzero(~np.isfinite(x))
     if args.fixed and bad.size:
         raise NonFiniteError(f"{args.input}: row {int(bad[0]) + 2}, column '{args.column}': "
-                             f"non-finite value {x[bad[0]]!r} (the fixed form takes ADC codes)")
+                             f"non-finite value {float(x[bad[0]])!r} (the fixed form takes ADC codes)")
+    if args.fixed:
+        beyond = np.flatnonzero(np.abs(x) > CODE_MAX)
+        if beyond.size:
+            i = int(beyond[0])
+            raise SaturationError(f"{args.input}: row {i + 2}, column '{args.column}': code {x[i]:.17g} "
+                                  f"beyond the fixed form's +-{CODE_MAX} (25-bit) range")
     overrides = {name: getattr(args, name) for _, name, _, _ in PARAMS}
     overrides["seed_first"] = args.seed_first
     chain = Chain(preset=args.preset, fixed=args.fixed, units_per_kg=args.units_per_kg, **overrides)

@@ -118,14 +118,15 @@ def chain_params(preset="recommended", units_per_kg=None, **overrides):
         _check(p[k] >= 0, k, p[k], "must be >= 0")
     for k, lo in (("stable_count", 1), ("motion_count", 1), ("lockout_n", 0)):
         _check(lo <= p[k] <= 255, k, p[k], f"must be in {lo}..255")
-    for k in ("A0", "x0", "stable_step", "motion_band", "zero_band", "zero_rate"):
-        p[k] = float(p[k]) * s
-    for k in ("Q", "R", "P0"):
-        p[k] = float(p[k]) * s * s
+    for k in ("A0", "x0", "stable_step", "motion_band", "zero_band", "zero_rate", "Q", "R", "P0"):
+        given = p[k]
+        p[k] = float(given) * s * (s if k in ("Q", "R", "P0") else 1.0)
+        _check(math.isfinite(p[k]), k, given, f"overflows in signal units (units_per_kg={s!r})")
     return p
 
 
 def _round_int32(name, value):
+    _check(math.isfinite(value), name, value, "out of the int32 range in fixed point")
     v = round(value)
     _check(INT32_MIN <= v <= INT32_MAX, name, value, "out of the int32 range in fixed point")
     return int(v)
@@ -557,7 +558,7 @@ class Chain:
         x = np.asarray(x, dtype=float)
         if self.fixed and not np.all(np.isfinite(x)):
             i = int(np.flatnonzero(~np.isfinite(x))[0])
-            raise NonFiniteError(f"sample {i}: non-finite value {x[i]!r}: the fixed form takes ADC codes")
+            raise NonFiniteError(f"sample {i}: non-finite value {float(x[i])!r}: the fixed form takes ADC codes")
         out = np.empty(x.size)
         stable = np.zeros(x.size, dtype=bool)
         status = np.zeros(x.size, dtype=np.int16)
