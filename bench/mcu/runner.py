@@ -424,13 +424,13 @@ def _mcs51_sp(out: str) -> int:
     return int(m[-1], 16)
 
 
-def _mcs51_1t(img, to_entry, n_instructions, cpu, chunk=9000):
+def _mcs51_1t(img, to_entry, n_instructions, cpu, chunk=4000):
     """Opcode histogram of one call (s51 execution history, stepped in chunks
     that fit its 10000-entry ring) weighed with the per-opcode tables of
     mcs51/timing.py."""
     sys.path.insert(0, str(MCU_DIR / "mcs51"))
     import timing          # noqa: E402  (bench/mcu/mcs51/timing.py)
-    script = list(to_entry)
+    script = list(to_entry) + ["delete"]       # a breakpoint would stop a step early
     left = n_instructions
     while left > 0:
         k = min(chunk, left)
