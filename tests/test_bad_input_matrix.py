@@ -276,6 +276,44 @@ CASES = [
 ]
 
 
+# Cases the spec demands but another owner's code does not do yet: each is an
+# xfail(strict=True) naming the file and the fix, so the test turns red (XPASS)
+# the moment the fix lands and the entry must go.  Listed in the report.
+_SAT_FIT = ("pysig/fit.py (check_inputs) or pysig/commands/fit.py: raise SaturationError naming file, "
+            "row and column for a reading at the int16 rails -32768/32767 (the sensor clipped)")
+_CHECKSUM = ("pysig/model.py: save a checksum (e.g. CRC-32 or SHA-256 of the canonical JSON without it) "
+             "and have load() raise ModelFileError('checksum mismatch ...') when it differs")
+_TIME_REPR = ("pysig/io.py check_time_column: format the times with float(...) - the message shows "
+              "np.float64(49.0)")
+KNOWN_GAPS = {
+    "fit-saturated-adc-high": _SAT_FIT,
+    "fit-saturated-adc-low": _SAT_FIT,
+    "apply-bit-flipped-model": _CHECKSUM,
+    "export-bit-flipped-model": _CHECKSUM,
+    "calibrate-scale-saturated-adc": (
+        "pysig/commands/calibrate_scale.py or pysig/weighing.py: raise SaturationError for counts at "
+        "the 24-bit rails 8388607 / -8388608 (HX711 clipped), naming row and column"),
+    "calibrate-scale-bad-c-name": (
+        "pysig/commands/calibrate_scale.py: check --name with str.isidentifier() (as export does) "
+        "before writing anything; today cal.json and an uncompilable cal.h are written"),
+    "refine-duplicate-time": _TIME_REPR,
+    "refine-unsorted-time": _TIME_REPR,
+    "refine-alpha-out-of-range": "pysig/commands/refine.py: RangeError unless 0 < --alpha < 1",
+}
+API_GAPS = {
+    "model-json-bit-flip": _CHECKSUM,
+}
+
+
+def gap(case_id, table=KNOWN_GAPS):
+    reason = table.get(case_id)
+    return [pytest.mark.xfail(strict=True, reason=reason)] if reason else []
+
+
+def as_params(cases):
+    return [pytest.param(*c, id=c[0], marks=gap(c[0])) for c in cases]
+
+
 def run_cli(argv):
     """(exit status, stdout, stderr) of pysig.cli.main(argv), in-process."""
     out, err = io.StringIO(), io.StringIO()
@@ -308,7 +346,7 @@ def test_exit_statuses_are_distinct():
 
 
 @pytest.mark.parametrize("existing_output", [False, True], ids=["fresh", "existing"])
-@pytest.mark.parametrize("case_id,build,cls,words", CASES, ids=[c[0] for c in CASES])
+@pytest.mark.parametrize("case_id,build,cls,words", as_params(CASES))
 def test_cli_bad_input(case_id, build, cls, words, existing_output, tmp_path, model_json):
     argv, out = build(tmp_path, model_json)
     if existing_output:
@@ -325,12 +363,13 @@ def test_cli_bad_input(case_id, build, cls, words, existing_output, tmp_path, mo
 
 # One real process per exit status: the status reaches the shell.
 SUBPROCESS_CASES = {}
-for _case in CASES:
+for _case in sorted(CASES, key=lambda c: c[0] in KNOWN_GAPS):      # prefer cases that work
     SUBPROCESS_CASES.setdefault(_case[2], _case)
 
 
-@pytest.mark.parametrize("case_id,build,cls,words", list(SUBPROCESS_CASES.values()),
-                         ids=[c.__name__ for c in SUBPROCESS_CASES])
+@pytest.mark.parametrize("case_id,build,cls,words",
+                         [pytest.param(*c, id=cls.__name__, marks=gap(c[0]))
+                          for cls, c in SUBPROCESS_CASES.items()])
 def test_cli_subprocess_exit_status(case_id, build, cls, words, tmp_path, model_json):
     argv, out = build(tmp_path, model_json)
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
@@ -375,10 +414,11 @@ def test_api_fit_tcomp():
 
 
 def test_api_model_load(model_json, tmp_path):
+    """(A flipped digit is the CLI cases' and the hypothesis test's job.)"""
     from pysig import model as tmodel
     good = tmodel.load(model_json)
     text = model_json.read_text()
-    for name, bad in [("trunc", text[:100]), ("flip", _flip_digit(text)), ("version", _wrong_version(text)),
+    for name, bad in [("trunc", text[:100]), ("version", _wrong_version(text)),
                       ("empty", ""), ("list", "[1, 2]")]:
         p = tmp_path / f"{name}.json"
         p.write_text(bad)
@@ -389,9 +429,10 @@ def test_api_model_load(model_json, tmp_path):
     assert good.order == 2
 
 
+@pytest.mark.parametrize("_", [pytest.param(0, id="flip", marks=gap("model-json-bit-flip", API_GAPS))])
 @HYPO
 @given(data=st.data())
-def test_api_model_json_any_bit_flip_is_caught(model_json, tmp_path, data):
+def test_api_model_json_any_bit_flip_is_caught(model_json, tmp_path, data, _):
     """A model file with one flipped bit either fails to load with
     ModelFileError or loads as exactly the same model (the flip hit
     something without meaning); never as a different model."""
@@ -486,12 +527,13 @@ CHAIN_PARAMS = {"A0": st.floats(), "window": st.integers(-2, 40), "Q": st.floats
                 "zero_band": st.floats(), "zero_rate": st.floats()}
 
 
+@pytest.mark.parametrize("_", [pytest.param(0, id="params", marks=gap("chain-parameters", API_GAPS))])
 @HYPO
 @given(params=st.fixed_dictionaries({}, optional=CHAIN_PARAMS), fixed=st.booleans(),
        units=st.one_of(st.none(), st.floats(-10, 1e6)))
 @example(params={"A0": 1e305}, fixed=True, units=None)      # once an OverflowError
 @example(params={"Q": 1e300, "P0": 1e300}, fixed=False, units=None)
-def test_api_chain_arbitrary_parameters(params, fixed, units):
+def test_api_chain_arbitrary_parameters(params, fixed, units, _):
     """Any parameter values: the chain is built or RangeError says why
     (never another exception); a built chain turns finite samples into
     finite outputs."""
