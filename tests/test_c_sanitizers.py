@@ -18,9 +18,23 @@ SANITIZERS = {"asan-ubsan": ["-fsanitize=address,undefined"],
               "msan": ["-fsanitize=memory", "-fsanitize-memory-track-origins"]}
 
 
-@pytest.mark.parametrize("sanitizer", sorted(SANITIZERS))
-@pytest.mark.parametrize("real", ["float", "double"])
-@pytest.mark.parametrize("src", UNIT_TESTS, ids=lambda p: p.stem)
+# Unit tests that fail because another owner's fix has not landed: strict
+# xfail naming the file and the fix, keyed by (test stem, sanitizer or None
+# for both).  An XPASS means the fix landed and the entry must go.
+KNOWN_GAPS = {
+}
+
+
+def gap_marks(stem, sanitizer):
+    reason = KNOWN_GAPS.get((stem, sanitizer)) or KNOWN_GAPS.get((stem, None))
+    return [pytest.mark.xfail(strict=True, reason=reason)] if reason else []
+
+
+CASES = [pytest.param(src, real, san, id=f"{src.stem}-{real}-{san}", marks=gap_marks(src.stem, san))
+         for src in UNIT_TESTS for real in ("float", "double") for san in sorted(SANITIZERS)]
+
+
+@pytest.mark.parametrize("src,real,sanitizer", CASES)
 def test_c_unit_under_sanitizers(src, real, sanitizer, tmp_path):
     if sanitizer == "msan":
         cc = require_tool("clang-14", "clang")      # gcc has no MemorySanitizer

@@ -123,6 +123,22 @@ def test_every_harness_has_a_seed_corpus():
         assert seeds.is_dir() and any(seeds.iterdir()), f"{harness.name}: no seed corpus in {seeds}"
 
 
+# Harness runs that fail because another owner's fix has not landed (their
+# regression seeds crash at once): strict xfail naming the file and the fix,
+# keyed by "<target>" (ASan+UBSan run) or "<target>-msan".
+KNOWN_GAPS = {
+}
+
+
+def params(suffix=""):
+    out = []
+    for h in HARNESSES:
+        reason = KNOWN_GAPS.get(target_name(h) + suffix)
+        marks = [pytest.mark.xfail(strict=True, reason=reason)] if reason else []
+        out.append(pytest.param(h, id=target_name(h), marks=marks))
+    return out
+
+
 def run_fuzzer(exe, target, seconds, tmp_path, key):
     """Run one harness from its seeds; record and print executions and
     coverage under `key` in the summary; fail on any report."""
@@ -154,7 +170,7 @@ def run_fuzzer(exe, target, seconds, tmp_path, key):
     shutil.rmtree(work, ignore_errors=True)
 
 
-@pytest.mark.parametrize("harness", HARNESSES, ids=target_name)
+@pytest.mark.parametrize("harness", params())
 def test_fuzz(harness, clang, tmp_path):
     target = target_name(harness)
     exe = build_harness(clang, harness)
@@ -162,7 +178,7 @@ def test_fuzz(harness, clang, tmp_path):
     run_fuzzer(exe, target, seconds, tmp_path, target)
 
 
-@pytest.mark.parametrize("harness", HARNESSES, ids=target_name)
+@pytest.mark.parametrize("harness", params("-msan"))
 def test_fuzz_msan(harness, clang, tmp_path):
     target = target_name(harness)
     exe = build_harness(clang, harness, SANITIZE_MSAN, "_msan")
