@@ -12,6 +12,11 @@
  *   gain_q, nonlin_q, cross_q equal their definitions in sig_effects.h
  *           rebuilt from sig_poly_horner_q15 / sig_mul_q16_sat, and flag a
  *           rail whenever an output sits on one;
+ *   refined sig_refined_step_q over a valid tcomp model with or without lag,
+ *           hysteresis and gain: only warning bits; with no effect on it
+ *           equals y * 2^16 - delta rescaled to Q16 (saturating), where
+ *           delta comes from sig_tcomp_delta_q; a lag whose frac is not 16
+ *           is refused with the struct untouched;
  *   float   finite inputs leave no NaN in the state (lag z, hysteresis p,
  *           creep lag) whatever their size; the stateless outputs are never
  *           NaN while every input and parameter is within 1e18 (beyond, a
@@ -21,6 +26,7 @@
 
 #include "fuzz_input.h"
 #include "sig_effects.h"
+#include "sig_tcomp.h"
 
 #define REQUIRE(cond) do { if (!(cond)) abort(); } while (0)
 #define STEPS 24
@@ -221,14 +227,74 @@ static void float_effects(fuzz_input *in)
     }
 }
 
+static void refined_q(fuzz_input *in)
+{
+    uint8_t n_axes = (uint8_t)(1u + fuzz_u8(in) % 3u), order = (uint8_t)(1u + fuzz_u8(in) % 8u);
+    uint8_t u_shift = (uint8_t)(fuzz_u8(in) % 16u), flags = fuzz_u8(in), axis = fuzz_u8(in), q[3];
+    int16_t t_lo = fuzz_i16(in), t_hi = fuzz_i16(in), t_c, u_mul;
+    int32_t coef[27], half, gcoef[SIG_POLY_MAX_ORDER + 1u];
+    int64_t um;
+    sig_tcomp_q m;
+    sig_lag_q lag;
+    sig_hyst_q hyst;
+    sig_gain_q gain;
+    sig_refined_q r, before;
+    sig_status st;
+    unsigned k;
+    int n;
+    if (t_lo > t_hi) { int16_t x = t_lo; t_lo = t_hi; t_hi = x; }
+    if (t_lo == t_hi) t_hi = (int16_t)(t_lo == INT16_MAX ? t_lo : t_lo + 1), t_lo = (int16_t)(t_hi - 1);
+    t_c = (int16_t)(((int32_t)t_lo + t_hi) / 2);
+    half = (int32_t)t_hi - t_c > t_c - (int32_t)t_lo ? (int32_t)t_hi - t_c : t_c - (int32_t)t_lo;
+    if (half > 32767) return;
+    um = (((int64_t)32767 << u_shift) - ((int64_t)1 << u_shift >> 1)) / half;
+    u_mul = (int16_t)(um > 32767 ? 32767 : um < 1 ? 1 : um);
+    for (k = 0; k < 27u; k++)
+        coef[k] = (flags & 1u) ? fuzz_i32_edgy(in) : (int32_t)fuzz_i16(in) * (INT32_C(1) << (fuzz_u8(in) % 15u));
+    for (k = 0; k < 3u; k++) q[k] = (uint8_t)(fuzz_u8(in) % 31u);
+    if (sig_tcomp_init_q(&m, n_axes, order, coef, q, t_lo, t_hi, t_c, t_c, u_mul, u_shift) != SIG_OK) return;
+    REQUIRE(sig_lag_init_q(&lag, 1 + (int32_t)(fuzz_u16(in)), (flags & 16u) ? (uint8_t)(fuzz_u8(in) % 17u) : 16u)
+            == SIG_OK);
+    REQUIRE(sig_hyst_init_q(&hyst, (int16_t)(1 + fuzz_u16(in) % 32767u), fuzz_i32_edgy(in),
+                            (int8_t)((int)(fuzz_u8(in) % 3u) - 1)) == SIG_OK);
+    for (k = 0; k <= SIG_POLY_MAX_ORDER; k++) gcoef[k] = (k == 0) ? 65536 + fuzz_i16(in) : fuzz_i16(in);
+    REQUIRE(sig_gain_init_q(&gain, gcoef, (uint8_t)(fuzz_u8(in) % 9u)) == SIG_OK);
+    memset(&r, 0x29, sizeof r);
+    before = r;
+    st = sig_refined_init_q(&r, &m, axis, (flags & 2u) ? &lag : NULL, (flags & 4u) ? &hyst : NULL,
+                            (flags & 8u) ? &gain : NULL);
+    if (axis >= n_axes || ((flags & 2u) && lag.frac != 16u)) {
+        REQUIRE(st == SIG_ERR_ARG && memcmp(&r, &before, sizeof r) == 0);
+        return;
+    }
+    REQUIRE(st == SIG_OK);
+    for (n = 0; n < STEPS && fuzz_left(in) > 0; n++) {
+        int16_t t = fuzz_i16(in), y = fuzz_i16(in);
+        int32_t out = 0, delta, d16;
+        st = sig_refined_step_q(&r, t, y, &out);
+        REQUIRE(st >= 0 && (st & ~(SIG_WARN_CLAMPED | SIG_WARN_SATURATED)) == 0);
+        if (!(flags & 14u)) {
+            (void)sig_tcomp_delta_q(&m, axis, t, &delta);
+            if (m.q[axis] >= 16u) {
+                uint8_t sh = (uint8_t)(m.q[axis] - 16u);
+                d16 = sh ? sig_asr32(sig_sat_add32(delta, INT32_C(1) << (sh - 1u)), sh) : delta;
+            } else {
+                d16 = sig_shl32_sat(delta, (uint8_t)(16u - m.q[axis]));
+            }
+            REQUIRE(out == sig_sat_sub32((int32_t)y * SIG_Q16_ONE, d16));
+        }
+    }
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     fuzz_input in = fuzz_input_make(data, size);
-    switch (fuzz_u8(&in) & 3u) {
+    switch (fuzz_u8(&in) % 5u) {
     case 0: lag_and_creep_q(&in); break;
     case 1: hyst_q(&in); break;
     case 2: poly_effects_q(&in); break;
-    default: float_effects(&in);
+    case 3: float_effects(&in); break;
+    default: refined_q(&in);
     }
     return 0;
 }

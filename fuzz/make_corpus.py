@@ -160,6 +160,17 @@ def seeds_image_pwl():
     write("image", "seed-structured-pwl", b"\x02" + body)
 
 
+def seeds_effects_refined():
+    # mode 4: n_axes, order, u_shift, flags, axis, t_lo, t_hi, 27 coefs (i16 + shift), q x3,
+    # lag alpha, hyst width, k (edgy), start, gain coefs (9 x i16), gain order, then (t, y) pairs
+    coefs = b"".join(struct.pack("<h", v) + bytes([8]) for v in [1200, -300, 77] * 9)
+    tail = struct.pack("<hh", 6554, 150) + edgy(1 << 18) + bytes([2]) + struct.pack("<9h", 0, 300, -50, 0, 0, 0, 0, 0, 0) + bytes([2])
+    pairs = struct.pack("<12h", 2500, 100, 2600, -100, -4000, 32767, 8500, -32768, 3000, 0, 2000, 5)
+    for k, flags in enumerate((0, 2, 6, 14)):
+        write("effects", f"seed-refined-{k}", bytes([4, 0, 1, 9, flags, 0]) + struct.pack("<hh", -4000, 8500)
+              + coefs + bytes([16, 20, 8]) + tail + pairs)
+
+
 if __name__ == "__main__":
     seeds_types()
     seeds_pwl()
@@ -170,5 +181,6 @@ if __name__ == "__main__":
     seeds_chain()
     seeds_scale()
     seeds_effects()
+    seeds_effects_refined()
     for d in sorted(CORPUS.iterdir()):
         print(f"{d.name}: {len(list(d.iterdir()))} seeds")
