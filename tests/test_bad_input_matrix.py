@@ -142,6 +142,16 @@ def case_text(cmd, text, name="in.csv", extra=()):
     return build
 
 
+def case_args(cmd, *args, out_name="out.csv", positional_out=False):
+    """A command that reads no input file, only options."""
+    def build(tmp, model):
+        out = tmp / out_name
+        if positional_out:
+            return [cmd, str(out), *args], out
+        return [cmd, "-o", str(out), *args], out
+    return build
+
+
 def case_model(cmd, corrupt):
     """A command reading a model file corrupted by `corrupt(text) -> text/bytes`."""
     def build(tmp, model):
@@ -261,6 +271,11 @@ CASES = [
     # demo on a user's copy of the recording
     ("demo-empty-file", case_text("demo", ""), InputFileError, ["in.csv", "empty"]),
     ("demo-missing-column", case_text("demo", "a,b\n1,2\n"), InputFileError, ["in.csv", "missing column"]),
+    # simulators: options only
+    ("chamber-nan-dwell", case_args("chamber", "--dwell", "nan"), RangeError, ["dwell", "nan"]),
+    ("chamber-nan-hysteresis", case_args("chamber", "--hysteresis", "nan"), RangeError, ["hysteresis", "nan"]),
+    ("simulate-too-many-samples", case_args("simulate", "--duration-s", "1e12", positional_out=True),
+     RangeError, ["duration_s", "1e+12"]),
     # refine: effects on measured data with a time column
     ("refine-empty-file", case_text("refine", ""), InputFileError, ["in.csv", "empty"]),
     ("refine-header-only", case_text("refine", REFINE_HEADER), InputFileError, ["in.csv", "header only"]),
@@ -299,6 +314,13 @@ KNOWN_GAPS = {
     "refine-duplicate-time": _TIME_REPR,
     "refine-unsorted-time": _TIME_REPR,
     "refine-alpha-out-of-range": "pysig/commands/refine.py: RangeError unless 0 < --alpha < 1",
+    "chamber-nan-dwell": ("pysig/commands/chamber.py: --dwell nan passes the > 0 check (NaN compares false) "
+                          "and numpy raises ValueError (traceback, exit 1): test math.isfinite first"),
+    "chamber-nan-hysteresis": ("pysig/commands/chamber.py / pysig/sim_chamber.py: --hysteresis nan writes a "
+                               "CSV of NaN readings (exit 0): RangeError unless finite"),
+    "simulate-too-many-samples": ("pysig/sim_loadcell.py LoadCellParams checks: duration_s * rate_hz = 1e13 "
+                                  "samples raises numpy's MemoryError (traceback, exit 1): RangeError above "
+                                  "a stated sample limit"),
 }
 API_GAPS = {
     "model-json-bit-flip": _CHECKSUM,
