@@ -86,8 +86,7 @@ sig_status sig_antipulse_reset_f(sig_antipulse_f *s)
 }
 
 /* Trimmed mean without overflow: sum of v / d over the held samples, one
- * maximum and one minimum left out (each term and partial sum is at most
- * max |v|). */
+ * maximum and one minimum left out, clamped to [mn, mx]. */
 static sig_real safe_mean_f(const sig_antipulse_f *s)
 {
     sig_real acc = SIG_REAL(0.0), d;
@@ -100,6 +99,10 @@ static sig_real safe_mean_f(const sig_antipulse_f *s)
         if (skip_mn && v == s->mn) { skip_mn = false; continue; }
         acc += v / d;
     }
+    /* the rounded terms can still sum past the largest finite value (three
+     * times DBL_MAX / 3); the trimmed mean lies within [mn, mx] */
+    if (acc > s->mx) acc = s->mx;
+    if (acc < s->mn) acc = s->mn;
     return acc;
 }
 

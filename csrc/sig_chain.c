@@ -103,8 +103,12 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
         }
     }
     (void)sig_limit_set_ref_f(&c->limit, m);
-    (void)sig_kalman1_step_f(&c->kf, m, &xk);
-    (void)sig_stable_step_f(&c->st, xk, &stab);
+    /* m is finite (the anti-pulse mean is clamped to its window), so these
+     * cannot fail; if they ever did, stop before using an unset estimate */
+    st = sig_kalman1_step_f(&c->kf, m, &xk);
+    if (st < 0) return st;
+    st = sig_stable_step_f(&c->st, xk, &stab);
+    if (st < 0) return st;
     if (stab) {
         if (c->tare_pending) {
             c->offset = xk;

@@ -304,7 +304,8 @@ class AntiPulse:
                 skip_mn = False
                 continue
             acc += v / d
-        return acc
+        # rounded terms can sum past the largest float; the mean is within [mn, mx]
+        return min(max(acc, mn), mx)
 
     def step(self, x):
         if self.fixed:
