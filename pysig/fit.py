@@ -1,5 +1,5 @@
 """Training of the temperature-compensation model (issue 3): per axis, the
-least-squares polynomial f(T) of order 1-6 (pysig.lsq, centred and scaled
+least-squares polynomial f(T) of order 1-8 (pysig.lsq, centred and scaled
 temperature) and the correction delta(T) = f(T) - f(T0); order selection by
 leave-one-temperature-out cross-validation, reported per order like the
 magnetometer paper's Table 3; quantisation for the MCU (pysig.quant).
@@ -28,7 +28,7 @@ from . import lsq, quant
 from .errors import InsufficientDataError, NonFiniteError, RangeError
 from .model import TcompModel
 
-MAX_FIT_ORDER = 6
+MAX_FIT_ORDER = 8
 GAP_C = 0.15
 MAX_SPAN_C = 5.0
 MIN_SHARE = 0.05
@@ -107,7 +107,7 @@ def require_temperatures(groups, order, temp, what="fit"):
 
 def fit_tcomp(temp, columns, order=2, t0=25.0, temp_column="temp", groups=None, what="fit"):
     """Fit the compensation model. `columns`: dict name -> readings (1..3).
-    `order` an int 1..6 or "auto" (cross-validated, see `select_order`)."""
+    `order` an int 1..8 or "auto" (cross-validated, see `select_order`)."""
     temp, columns = check_inputs(temp, columns, what)
     if groups is None:
         groups = temperature_groups(temp)

@@ -173,7 +173,7 @@ int main(void) {
     ("nan", ["fit", "IN", "--columns", "x", "-o", "OUT"], 3, "non-finite"),
     ("ok", ["fit", "IN", "--columns", "nope", "-o", "OUT"], 2, "missing column"),
     ("ok", ["fit", "IN", "--columns", "x", "--order", "seven", "-o", "OUT"], 2, "--order"),
-    ("ok", ["fit", "IN", "--columns", "x", "--order", "7", "-o", "OUT"], 7, "order must be"),
+    ("ok", ["fit", "IN", "--columns", "x", "--order", "9", "-o", "OUT"], 7, "order must be"),
     ("bad_model", ["apply", "IN", "--model", "MODEL", "-o", "OUT"], 6, "version"),
     ("bad_model", ["export", "MODEL", "--format", "image", "-o", "OUT"], 6, "version"),
 ])

@@ -17,7 +17,7 @@ def register(sub):
     p.add_argument("inputs", nargs="+", metavar="IN.csv")
     p.add_argument("--temp", default="temp", help="temperature column, °C (default: temp)")
     p.add_argument("--columns", required=True, help="1 to 3 reading columns, comma separated")
-    p.add_argument("--order", default="2", help="polynomial order 1..6 or 'auto' (default 2)")
+    p.add_argument("--order", default="2", help="polynomial order 1..8 or 'auto' (default 2)")
     p.add_argument("--t0", type=float, default=25.0, help="reference temperature T0, °C (default 25)")
     p.add_argument("-o", "--output", required=True, metavar="model.json")
     p.set_defaults(func=run)
