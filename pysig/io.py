@@ -70,6 +70,12 @@ def check_time_column(path, name, t):
             f"{path}: row {i + 3}, column '{name}': {what} time {t[i + 1]!r} after {t[i]!r}")
 
 
+def _umask():
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
 @contextmanager
 def atomic_output(path, mode="w", **kwargs):
     """Open a temporary file beside `path`; rename it over `path` only when
@@ -79,6 +85,7 @@ def atomic_output(path, mode="w", **kwargs):
     try:
         with os.fdopen(fd, mode, **kwargs) as fh:
             yield fh
+        os.chmod(tmp, 0o666 & ~_umask())        # mkstemp makes 0600; give what open() would
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

@@ -74,3 +74,30 @@ def test_write_read_round_trip(tmp_path_factory, values):
     back = read_csv(p)
     np.testing.assert_array_equal(back["v"], values)
     np.testing.assert_array_equal(back["i"], np.arange(len(values)))
+
+
+def test_atomic_output_file_mode_follows_umask(tmp_path):
+    """A file written atomically gets the mode open() would give it, not
+    mkstemp's private 0600."""
+    import os
+    old = os.umask(0o022)
+    try:
+        with atomic_output(tmp_path / "a.txt") as fh:
+            fh.write("x")
+        os.umask(0o077)
+        with atomic_output(tmp_path / "b.txt") as fh:
+            fh.write("x")
+    finally:
+        os.umask(old)
+    assert (tmp_path / "a.txt").stat().st_mode & 0o777 == 0o644
+    assert (tmp_path / "b.txt").stat().st_mode & 0o777 == 0o600
+
+
+def test_cli_imports_only_the_requested_command():
+    """`pysig filter` must not pay for refine's statsmodels import."""
+    import subprocess
+    import sys
+    code = ("import sys; from pysig import cli; cli.build_parser(cli._requested_command(['filter', 'x.csv']));"
+            "print('statsmodels' in sys.modules, 'pysig.commands.filter' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.split() == ["False", "True"]
