@@ -25,13 +25,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import lsq, quant
-from .errors import InsufficientDataError, NonFiniteError, RangeError
+from .errors import InsufficientDataError, NonFiniteError, RangeError, SaturationError
 from .model import TcompModel
 
 MAX_FIT_ORDER = 8
 GAP_C = 0.15
 MAX_SPAN_C = 5.0
 MIN_SHARE = 0.05
+# Readings are int16 sensor codes (the C model corrects int16): a reading at a
+# rail means the sensor clipped and its true value is unknown.
+INT16_RAILS = (-32768.0, 32767.0)
 
 
 @dataclass(frozen=True)
@@ -73,8 +76,18 @@ def temperature_groups(temp, gap=GAP_C, max_span=MAX_SPAN_C, min_share=MIN_SHARE
     return TemperatureGroups(labels, ranges)
 
 
+def first_saturated(y):
+    """Index of the first reading at an int16 rail, or None."""
+    hit = np.flatnonzero((y == INT16_RAILS[0]) | (y == INT16_RAILS[1]))
+    return int(hit[0]) if hit.size else None
+
+
+def saturated_reading(value):
+    return f"{value:.0f} is the int16 rail: the reading saturated (its true value is unknown)"
+
+
 def check_inputs(temp, columns, what="fit"):
-    """Finite values, equal lengths; returns (temp, {name: array})."""
+    """Finite values off the int16 rails, equal lengths; returns (temp, {name: array})."""
     temp = np.asarray(temp, dtype=float).ravel()
     bad = np.flatnonzero(~np.isfinite(temp))
     if bad.size:
@@ -87,6 +100,9 @@ def check_inputs(temp, columns, what="fit"):
         bad = np.flatnonzero(~np.isfinite(y))
         if bad.size:
             raise NonFiniteError(f"{what}: column '{name}': non-finite value {y[bad[0]]} at index {int(bad[0])}")
+        i = first_saturated(y)
+        if i is not None:
+            raise SaturationError(f"{what}: column '{name}': {saturated_reading(y[i])} at index {i}")
         out[name] = y
     if not 1 <= len(out) <= 3:
         raise ValueError(f"{what}: 1 to 3 columns, got {len(out)}")

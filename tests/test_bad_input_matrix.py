@@ -294,15 +294,11 @@ CASES = [
 # Cases the spec demands but another owner's code does not do yet: each is an
 # xfail(strict=True) naming the file and the fix, so the test turns red (XPASS)
 # the moment the fix lands and the entry must go.  Listed in the report.
-_SAT_FIT = ("pysig/fit.py (check_inputs) or pysig/commands/fit.py: raise SaturationError naming file, "
-            "row and column for a reading at the int16 rails -32768/32767 (the sensor clipped)")
 _CHECKSUM = ("pysig/model.py: save a checksum (e.g. CRC-32 or SHA-256 of the canonical JSON without it) "
              "and have load() raise ModelFileError('checksum mismatch ...') when it differs")
 _TIME_REPR = ("pysig/io.py check_time_column: format the times with float(...) - the message shows "
               "np.float64(49.0)")
 KNOWN_GAPS = {
-    "fit-saturated-adc-high": _SAT_FIT,
-    "fit-saturated-adc-low": _SAT_FIT,
     "apply-bit-flipped-model": _CHECKSUM,
     "export-bit-flipped-model": _CHECKSUM,
     "calibrate-scale-saturated-adc": (
@@ -433,6 +429,8 @@ def test_api_fit_tcomp():
         fit_tcomp(np.where(np.arange(t.size) == 2, np.inf, t), {"x": x}, order=1)
     with pytest.raises(RangeError):
         fit_tcomp(t, {"x": x}, order=0)
+    with pytest.raises(SaturationError, match="'x'.*-32768 is the int16 rail.*index 6"):
+        fit_tcomp(t, {"x": np.where(np.arange(t.size) == 6, -32768.0, x)}, order=1)
 
 
 def test_api_model_load(model_json, tmp_path):

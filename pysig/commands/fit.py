@@ -8,7 +8,7 @@ fixed-point format chosen."""
 import numpy as np
 
 from .. import fit as tfit
-from ..errors import InputFileError
+from ..errors import InputFileError, SaturationError
 from ..io import read_csv
 
 
@@ -35,6 +35,11 @@ def parse_order(text):
 
 def read_inputs(paths, temp, columns):
     parts = [read_csv(p, [temp] + columns) for p in paths]
+    for path, part in zip(paths, parts):        # name the file and row, not an index in the join
+        for c in columns:
+            i = tfit.first_saturated(part[c])
+            if i is not None:
+                raise SaturationError(f"{path}: row {i + 2}, column '{c}': {tfit.saturated_reading(part[c][i])}")
     return {c: np.concatenate([d[c] for d in parts]) for c in [temp] + columns}
 
 
