@@ -1,12 +1,19 @@
 """The temperature-compensation model: what pysig.fit produces, what
 `pysig apply` uses and what `pysig export` turns into a C header or an NVM
-image.  Saved as JSON with a format name and a version; loading anything
-else raises ModelFileError.
+image.  Saved as JSON with a format name, a version and a checksum; loading
+anything else raises ModelFileError.
+
+The checksum ("sha256:<hex>") covers the canonical JSON of every other field
+(sorted keys, no whitespace), so reformatting the file keeps it valid but any
+changed value, including a hand edit, is refused.  A file without a checksum
+is refused too (deliberately: it cannot be told from a corrupt one); re-run
+`pysig fit` to write a checked file.
 
 Per axis the model holds delta(u) = f(T) - f(T0) as float64 coefficients in
 ascending powers of u = (T - center) / scale (°C), and its fixed-point twin
 (sig_tcomp.h): int32 coefficients in Q(q) with the int16 temperature scaling
 (0.01 °C) chosen by pysig.quant."""
+import hashlib
 import json
 import math
 from dataclasses import dataclass, field
@@ -20,6 +27,14 @@ from .reference import tcomp as ref
 
 FORMAT = "pysig-tcomp"
 VERSION = 1
+CHECKSUM_KEY = "checksum"
+
+
+def checksum(d):
+    """sha256 of the canonical JSON of `d` without its checksum field."""
+    body = {k: v for k, v in d.items() if k != CHECKSUM_KEY}
+    canonical = json.dumps(body, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    return "sha256:" + hashlib.sha256(canonical.encode()).hexdigest()
 
 
 @dataclass
@@ -96,12 +111,14 @@ class TcompModel:
                 "report": self.report}
 
     def save(self, path):
-        text = json.dumps(self.to_dict(), indent=2, allow_nan=False) + "\n"
+        d = self.to_dict()
+        d[CHECKSUM_KEY] = checksum(d)
+        text = json.dumps(d, indent=2, allow_nan=False) + "\n"
         with atomic_output(path) as fh:
             fh.write(text)
 
 
-def from_dict(d, where="model"):
+def from_dict(d, where="model", verify_checksum=False):
     if not isinstance(d, dict) or d.get("format") != FORMAT:
         raise ModelFileError(f"{where}: not a pysig temperature-compensation model "
                              f"(format {d.get('format') if isinstance(d, dict) else None!r}, "
@@ -109,6 +126,16 @@ def from_dict(d, where="model"):
     if d.get("version") != VERSION:
         raise ModelFileError(f"{where}: model version {d.get('version')!r} is not supported "
                              f"(this pysig reads version {VERSION})")
+    if verify_checksum:
+        if CHECKSUM_KEY not in d:
+            raise ModelFileError(f"{where}: no checksum (written by an older pysig, or edited): "
+                                 f"re-run pysig fit to write a checked model")
+        try:
+            ok = d[CHECKSUM_KEY] == checksum(d)
+        except (TypeError, ValueError):         # a value JSON cannot write back (e.g. 1e999 -> inf)
+            ok = False
+        if not ok:
+            raise ModelFileError(f"{where}: checksum mismatch: the file is corrupt or was edited")
     try:
         fx, fl = d["fixed"], d["float"]
         order = int(d["order"])
@@ -146,4 +173,4 @@ def load(path):
         raise ModelFileError(f"{path}: cannot read: {exc.strerror}") from None
     except (UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise ModelFileError(f"{path}: not a JSON model file: {exc}") from None
-    return from_dict(d, where=str(path))
+    return from_dict(d, where=str(path), verify_checksum=True)
