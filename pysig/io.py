@@ -67,7 +67,7 @@ def check_time_column(path, name, t):
         i = int(bad[0])
         what = "duplicate" if dt[i] == 0 else "decreasing (unsorted)"
         raise InputFileError(
-            f"{path}: row {i + 3}, column '{name}': {what} time {t[i + 1]!r} after {t[i]!r}")
+            f"{path}: row {i + 3}, column '{name}': {what} time {float(t[i + 1])!r} after {float(t[i])!r}")
 
 
 def _umask():

@@ -280,10 +280,10 @@ CASES = [
     ("refine-empty-file", case_text("refine", ""), InputFileError, ["in.csv", "empty"]),
     ("refine-header-only", case_text("refine", REFINE_HEADER), InputFileError, ["in.csv", "header only"]),
     ("refine-duplicate-time", case_text("refine", REFINE_HEADER + "\n".join(_with_row(REFINE, 50, REFINE[49])) + "\n"),
-     InputFileError, ["in.csv", "row 52", "'t'", "duplicate"]),
+     InputFileError, ["in.csv", "row 52", "'t'", "duplicate time 49.0 after 49.0"]),
     ("refine-unsorted-time",
      case_text("refine", REFINE_HEADER + "\n".join(REFINE[:50] + [REFINE[51], REFINE[50]] + REFINE[52:]) + "\n"),
-     InputFileError, ["in.csv", "row 53", "'t'", "unsorted"]),
+     InputFileError, ["in.csv", "row 53", "'t'", "unsorted) time 50.0 after 51.0"]),
     ("refine-alpha-out-of-range", case_text("refine", REFINE_HEADER + "\n".join(REFINE) + "\n", extra=["--alpha", "2"]),
      RangeError, ["alpha", "2"]),
     ("refine-nan-reading", case_text("refine", REFINE_HEADER + "\n".join(_with_row(REFINE, 10, "10.5,21,nan,0")) + "\n"),
@@ -294,8 +294,6 @@ CASES = [
 # Cases the spec demands but another owner's code does not do yet: each is an
 # xfail(strict=True) naming the file and the fix, so the test turns red (XPASS)
 # the moment the fix lands and the entry must go.  Listed in the report.
-_TIME_REPR = ("pysig/io.py check_time_column: format the times with float(...) - the message shows "
-              "np.float64(49.0)")
 KNOWN_GAPS = {
     "calibrate-scale-saturated-adc": (
         "pysig/commands/calibrate_scale.py or pysig/weighing.py: raise SaturationError for counts at "
@@ -303,8 +301,6 @@ KNOWN_GAPS = {
     "calibrate-scale-bad-c-name": (
         "pysig/commands/calibrate_scale.py: check --name with str.isidentifier() (as export does) "
         "before writing anything; today cal.json and an uncompilable cal.h are written"),
-    "refine-duplicate-time": _TIME_REPR,
-    "refine-unsorted-time": _TIME_REPR,
     "refine-alpha-out-of-range": "pysig/commands/refine.py: RangeError unless 0 < --alpha < 1",
     "chamber-nan-dwell": ("pysig/commands/chamber.py: --dwell nan passes the > 0 check (NaN compares false) "
                           "and numpy raises ValueError (traceback, exit 1): test math.isfinite first"),
