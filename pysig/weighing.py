@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.ndimage import maximum_filter1d, median_filter, minimum_filter1d
 
-from .errors import InsufficientDataError, ModelFileError, RangeError
+from .errors import InsufficientDataError, ModelFileError, RangeError, SaturationError
 from .io import atomic_output
 from .lsq import fit_poly
 from .reference import scale as ref_scale
@@ -115,15 +115,34 @@ def load_calibration(path):
     return cal
 
 
+# Counts are codes of a 24-bit converter (HX711, ADS1232): a code at a rail
+# means the input was beyond full scale and its true value is unknown.
+ADC24_RAILS = (-8388608.0, 8388607.0)
+
+
+def first_saturated(counts):
+    """Index of the first count at a 24-bit rail, or None."""
+    hit = np.flatnonzero((counts == ADC24_RAILS[0]) | (counts == ADC24_RAILS[1]))
+    return int(hit[0]) if hit.size else None
+
+
+def saturated_count(value):
+    return f"{value:.0f} is the 24-bit converter's rail: the reading saturated (its true value is unknown)"
+
+
 def calibrate(counts, masses, unit="kg"):
     """Least-squares straight line mass(counts) through (counts[i], masses[i]).
 
     `counts` are the mean readings at each standard mass (the paper averages
-    5 readings per mass).  Needs at least 2 distinct masses."""
+    5 readings per mass), none at the 24-bit rails.  Needs at least 2
+    distinct masses."""
     counts = np.asarray(counts, dtype=float).ravel()
     masses = np.asarray(masses, dtype=float).ravel()
     if counts.size != masses.size:
         raise RangeError(f"calibrate: {counts.size} readings for {masses.size} masses")
+    i = first_saturated(counts)
+    if i is not None:
+        raise SaturationError(f"calibrate: reading {i}: {saturated_count(counts[i])}")
     if np.unique(masses).size < 2:
         raise InsufficientDataError(
             f"calibrate: a line needs at least 2 distinct masses, got {np.unique(masses).size}")

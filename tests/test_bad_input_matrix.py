@@ -295,12 +295,6 @@ CASES = [
 # xfail(strict=True) naming the file and the fix, so the test turns red (XPASS)
 # the moment the fix lands and the entry must go.  Listed in the report.
 KNOWN_GAPS = {
-    "calibrate-scale-saturated-adc": (
-        "pysig/commands/calibrate_scale.py or pysig/weighing.py: raise SaturationError for counts at "
-        "the 24-bit rails 8388607 / -8388608 (HX711 clipped), naming row and column"),
-    "calibrate-scale-bad-c-name": (
-        "pysig/commands/calibrate_scale.py: check --name with str.isidentifier() (as export does) "
-        "before writing anything; today cal.json and an uncompilable cal.h are written"),
     "refine-alpha-out-of-range": "pysig/commands/refine.py: RangeError unless 0 < --alpha < 1",
     "chamber-nan-dwell": ("pysig/commands/chamber.py: --dwell nan passes the > 0 check (NaN compares false) "
                           "and numpy raises ValueError (traceback, exit 1): test math.isfinite first"),
@@ -428,6 +422,15 @@ def _without_checksum(text):
     d = json.loads(text)
     del d["checksum"]
     return json.dumps(d)
+
+
+def test_api_calibrate_scale():
+    from pysig.weighing import calibrate
+    masses = np.array([0.0, 1.0, 2.0, 5.0])
+    with pytest.raises(SaturationError, match="reading 3: -8388608 is the 24-bit converter's rail"):
+        calibrate([-8000.0, 12000.0, 32000.0, -8388608.0], masses)
+    with pytest.raises(InsufficientDataError, match="2 distinct masses"):
+        calibrate([1.0, 2.0], [3.0, 3.0])
 
 
 def test_api_model_load(model_json, tmp_path):

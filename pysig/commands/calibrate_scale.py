@@ -6,8 +6,9 @@ readings per mass), with pysig.lsq, the same solver as the temperature fit.
 Prints the sensitivity and the linearity error; writes the calibration as
 JSON and, with --header, a C header with the arguments of sig_scale_init_q16
 (Q16.16 mass out) and sig_scale_init_f."""
+from ..errors import InputFileError, SaturationError
 from ..io import atomic_output, read_csv
-from ..weighing import calibrate
+from ..weighing import calibrate, first_saturated, saturated_count
 
 
 def register(sub):
@@ -24,7 +25,13 @@ def register(sub):
 
 
 def run(args):
+    if not (args.name.isascii() and args.name.isidentifier()):
+        raise InputFileError(f"--name {args.name!r} is not a C identifier (ASCII letters, digits, _; no leading digit)")
     d = read_csv(args.input, [args.mass, args.counts])
+    i = first_saturated(d[args.counts])
+    if i is not None:
+        raise SaturationError(f"{args.input}: row {i + 2}, column '{args.counts}': "
+                              f"{saturated_count(d[args.counts][i])}")
     cal = calibrate(d[args.counts], d[args.mass], unit=args.unit)
     off, mant, shift = cal.fixed()
     cal.save(args.output)
