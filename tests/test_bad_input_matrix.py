@@ -296,10 +296,6 @@ CASES = [
 # the moment the fix lands and the entry must go.  Listed in the report.
 KNOWN_GAPS = {
     "refine-alpha-out-of-range": "pysig/commands/refine.py: RangeError unless 0 < --alpha < 1",
-    "chamber-nan-dwell": ("pysig/commands/chamber.py: --dwell nan passes the > 0 check (NaN compares false) "
-                          "and numpy raises ValueError (traceback, exit 1): test math.isfinite first"),
-    "chamber-nan-hysteresis": ("pysig/commands/chamber.py / pysig/sim_chamber.py: --hysteresis nan writes a "
-                               "CSV of NaN readings (exit 0): RangeError unless finite"),
     "simulate-too-many-samples": ("pysig/sim_loadcell.py LoadCellParams checks: duration_s * rate_hz = 1e13 "
                                   "samples raises numpy's MemoryError (traceback, exit 1): RangeError above "
                                   "a stated sample limit"),

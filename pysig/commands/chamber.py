@@ -3,6 +3,8 @@
 Simulate a thermal-chamber run of a QMC5883L-like magnetometer
 (pysig.sim_chamber): CSV t, temp, x, y, z, ref_x, ref_y, ref_z, ready for
 `pysig fit chamber.csv --columns x,y,z`."""
+import math
+
 from .. import sim_chamber
 from ..errors import RangeError
 
@@ -21,8 +23,12 @@ def register(sub):
 
 
 def run(args):
-    if args.dwell <= 0 or args.lag < 0:
-        raise RangeError(f"chamber: --dwell must be > 0 and --lag >= 0 (got {args.dwell}, {args.lag})")
+    # math.isfinite first: NaN passes any comparison-based check
+    for name, value, rule, ok in (("--dwell", args.dwell, "finite and > 0", args.dwell > 0),
+                                  ("--lag", args.lag, "finite and >= 0", args.lag >= 0),
+                                  ("--hysteresis", args.hysteresis, "finite", True)):
+        if not (math.isfinite(value) and ok):
+            raise RangeError(f"{name} must be {rule}, got {value}")
     params = sim_chamber.ChamberParams(seed=args.seed, profile=args.profile, dwell_s=args.dwell,
                                        thermal_lag_s=args.lag, hysteresis_lsb=(args.hysteresis,) * 3)
     data = sim_chamber.write(args.output, params)
