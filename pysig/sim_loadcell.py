@@ -45,6 +45,9 @@ from .io import write_csv
 
 ADC_MIN = -(1 << 23)
 ADC_MAX = (1 << 23) - 1
+# A run is built in memory (about a dozen float64 arrays of its length): 10^7
+# samples, 11.6 days at 10 samples/s or 35 h at 80, need about 1 GB.
+MAX_SAMPLES = 10_000_000
 
 
 @dataclass(frozen=True)
@@ -91,6 +94,10 @@ class LoadCellParams:
                      "drift_rw_uv", "ringing_frac"):
             if getattr(self, name) < 0:
                 raise RangeError(f"LoadCellParams.{name} must be >= 0, got {getattr(self, name)!r}")
+        samples = self.duration_s * self.rate_hz
+        if samples > MAX_SAMPLES:
+            raise RangeError(f"LoadCellParams: duration_s={self.duration_s:g} s at rate_hz={self.rate_hz:g} is "
+                             f"{samples:.3g} samples, more than the {MAX_SAMPLES:,} a run may have")
         if self.impulse_rate_hz > self.rate_hz:
             raise RangeError(f"LoadCellParams.impulse_rate_hz {self.impulse_rate_hz} exceeds "
                              f"the sample rate {self.rate_hz}")

@@ -296,9 +296,6 @@ CASES = [
 # the moment the fix lands and the entry must go.  Listed in the report.
 KNOWN_GAPS = {
     "refine-alpha-out-of-range": "pysig/commands/refine.py: RangeError unless 0 < --alpha < 1",
-    "simulate-too-many-samples": ("pysig/sim_loadcell.py LoadCellParams checks: duration_s * rate_hz = 1e13 "
-                                  "samples raises numpy's MemoryError (traceback, exit 1): RangeError above "
-                                  "a stated sample limit"),
 }
 API_GAPS = {
 }
