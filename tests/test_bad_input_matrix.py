@@ -295,7 +295,6 @@ CASES = [
 # xfail(strict=True) naming the file and the fix, so the test turns red (XPASS)
 # the moment the fix lands and the entry must go.  Listed in the report.
 KNOWN_GAPS = {
-    "refine-alpha-out-of-range": "pysig/commands/refine.py: RangeError unless 0 < --alpha < 1",
 }
 API_GAPS = {
 }

@@ -10,7 +10,7 @@ import numpy as np
 
 from .. import refine as rf
 from ..effects import FitData
-from ..errors import InputFileError, InsufficientDataError
+from ..errors import InputFileError, InsufficientDataError, RangeError
 from ..io import atomic_output, check_time_column, read_csv
 
 
@@ -130,6 +130,8 @@ def format_table(name, result):
 def run(args):
     if args.folds < 2:
         raise InsufficientDataError(f"refine: --folds must be at least 2, got {args.folds}")
+    if not 0 < args.alpha < 1:                  # also refuses NaN
+        raise RangeError(f"refine: --alpha must be in (0, 1), got {args.alpha}")
     joined, t, measured, refs = load(args)
     opts = rf.Options(folds=args.folds, alpha=args.alpha, min_gain=args.min_gain)
     reports, results = {}, {}
