@@ -47,41 +47,63 @@ typedef int16_t sig_status;
 
 /* ---- saturating 32-bit arithmetic ---------------------------------------- */
 
-static inline int32_t sig_sat_add32(int32_t a, int32_t b)
+/* Host compilers and clang (MSP430) inline these helpers.  sdcc (8051) gives
+ * every static inline function of a header its own copy in each file that
+ * includes it - about 2.4 KB of code per file, with spill temporaries in the
+ * 128-byte direct RAM, or on the stack with --stack-auto - and inlines the
+ * calls it makes with their locals in the caller's frame.  So for sdcc they
+ * are ordinary functions, declared here and defined once in sig_types.c
+ * (which defines SIG_TYPES_DEFINE before including this header). */
+#if defined(__SDCC) && !defined(SIG_TYPES_DEFINE)
+int32_t sig_sat_add32(int32_t a, int32_t b);
+int32_t sig_sat_sub32(int32_t a, int32_t b);
+int16_t sig_sat16(int32_t x);
+int32_t sig_abs32_sat(int32_t x);
+int32_t sig_asr32(int32_t x, uint8_t n);
+int32_t sig_shl32_sat(int32_t x, uint8_t n);
+int32_t sig_mul_q16_sat(int32_t a, int32_t b);
+#else
+#ifdef __SDCC
+#define SIG_HELPER              /* sig_types.c: the one external definition */
+#else
+#define SIG_HELPER static inline
+#endif
+
+SIG_HELPER int32_t sig_sat_add32(int32_t a, int32_t b)
 {
     if (b > 0 && a > INT32_MAX - b) return INT32_MAX;
     if (b < 0 && a < INT32_MIN - b) return INT32_MIN;
     return a + b;
 }
 
-static inline int32_t sig_sat_sub32(int32_t a, int32_t b)
+SIG_HELPER int32_t sig_sat_sub32(int32_t a, int32_t b)
 {
     if (b < 0 && a > INT32_MAX + b) return INT32_MAX;
     if (b > 0 && a < INT32_MIN + b) return INT32_MIN;
     return a - b;
 }
 
-static inline int16_t sig_sat16(int32_t x)
+SIG_HELPER int16_t sig_sat16(int32_t x)
 {
     if (x > INT16_MAX) return INT16_MAX;
     if (x < INT16_MIN) return INT16_MIN;
     return (int16_t)x;
 }
 
-static inline int32_t sig_abs32_sat(int32_t x)
+SIG_HELPER int32_t sig_abs32_sat(int32_t x)
 {
     return x == INT32_MIN ? INT32_MAX : (x < 0 ? -x : x);
 }
 
 /* floor(x / 2^n) for 0 <= n <= 31, without right-shifting a negative value
  * (implementation-defined in C99): ~x is non-negative when x is negative. */
-static inline int32_t sig_asr32(int32_t x, uint8_t n)
+SIG_HELPER int32_t sig_asr32(int32_t x, uint8_t n)
 {
     return x >= 0 ? (int32_t)(x >> n) : (int32_t)~((~x) >> n);
 }
 
 /* x * 2^n saturated to int32, 0 <= n <= 31, without shifting a negative. */
-static inline int32_t sig_shl32_sat(int32_t x, uint8_t n)
+SIG_HELPER int32_t sig_shl32_sat(int32_t x, uint8_t n)
 {
     uint32_t mag;
     if (n == 0 || x == 0) return x;
@@ -99,7 +121,7 @@ static inline int32_t sig_shl32_sat(int32_t x, uint8_t n)
 /* floor(a * b / 2^16), saturated to int32, with 32-bit arithmetic only
  * (no int64: sdcc's 64-bit multiply costs ~800k clocks on an 8051).
  * Identical to (int32_t)sat(((int64_t)a * b) >> 16) for all inputs. */
-static inline int32_t sig_mul_q16_sat(int32_t a, int32_t b)
+SIG_HELPER int32_t sig_mul_q16_sat(int32_t a, int32_t b)
 {
     /* |a|*|b| = (ah*2^16 + al)(bh*2^16 + bl) on magnitudes, then sign. */
     bool neg = (a < 0) != (b < 0);
@@ -131,5 +153,7 @@ static inline int32_t sig_mul_q16_sat(int32_t a, int32_t b)
     if (hi > limit) return INT32_MIN;
     return hi == limit ? INT32_MIN : -(int32_t)hi;
 }
+
+#endif /* __SDCC && !SIG_TYPES_DEFINE */
 
 #endif /* SIG_TYPES_H */
