@@ -6,7 +6,11 @@ and fixed), each stage alone, the pure-Python reference (on a slice, scaled),
 filterpy's KalmanFilter on the Kalman stage alone (on a slice, scaled), and
 numpy.copyto of the array (the memory-speed floor).  Each figure is the
 best of --repeat runs (the machine may be shared: best-of filters out other
-people's load, it does not make the code faster).
+people's load, it does not make the code faster).  The headline figures are
+wall-clock; the `*_cpu` fields divide by the thread's CPU time instead
+(time.thread_time: the C loops run in the calling thread), which other
+processes on a loaded machine inflate less.  The 1-minute load average is
+recorded next to them.
 
     python bench/host_throughput.py --json results/host_throughput.json
 """
@@ -36,12 +40,14 @@ def make_signal(n, seed=0):
 
 
 def best_time(fn, repeat):
-    best = float("inf")
+    """(best wall-clock seconds, best thread CPU seconds) over `repeat` runs."""
+    best, best_cpu = float("inf"), float("inf")
     for _ in range(repeat):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.thread_time()
         fn()
-        best = min(best, time.perf_counter() - t0)
-    return best
+        c1, t1 = time.thread_time(), time.perf_counter()
+        best, best_cpu = min(best, t1 - t0), min(best_cpu, c1 - c0)
+    return best, best_cpu
 
 
 def msps(n, seconds):
@@ -73,6 +79,7 @@ def main(argv=None):
     ap.add_argument("--json", metavar="FILE")
     args = ap.parse_args(argv)
 
+    load_before = os.getloadavg()[0]
     x = make_signal(args.n)
     part = x[:args.slice]
     rows = []
@@ -81,8 +88,8 @@ def main(argv=None):
         def run():
             obj = make()
             obj.process(data)
-        t = best_time(run, args.repeat if data.size > args.slice else 1)
-        rows.append((name, key, data.size, t, msps(data.size, t)))
+        t, c = best_time(run, args.repeat if data.size > args.slice else 1)
+        rows.append((name, key, data.size, t, msps(data.size, t), msps(data.size, c)))
 
     upk = 1000.0 / 0.45359237          # HX711 counts per kg
     measure("chain (C, float)", lambda: C.Chain(), x, "chain_msps")
@@ -98,31 +105,38 @@ def main(argv=None):
     measure("Kalman stage (C, fixed)", lambda: C.Kalman1(Q=1e-7 * upk**2, R=0.05 * upk**2, x0=upk,
                                                         P0=10 * upk**2, fixed=True), x, "kalman_fixed_msps")
     measure("reference chain (Python, float)", lambda: R.Chain(), part, "reference_msps")
-    t = best_time(lambda: filterpy_kalman(part), 1)
-    rows.append(("filterpy KalmanFilter (Kalman stage)", "filterpy_kalman_msps", part.size, t, msps(part.size, t)))
+    t, c = best_time(lambda: filterpy_kalman(part), 1)
+    rows.append(("filterpy KalmanFilter (Kalman stage)", "filterpy_kalman_msps", part.size, t, msps(part.size, t),
+                 msps(part.size, c)))
     dst = np.empty_like(x)
-    t = best_time(lambda: np.copyto(dst, x), max(args.repeat, 5))
-    rows.append(("numpy.copyto (memory floor)", "copy_msps", x.size, t, msps(x.size, t)))
+    t, c = best_time(lambda: np.copyto(dst, x), max(args.repeat, 5))
+    rows.append(("numpy.copyto (memory floor)", "copy_msps", x.size, t, msps(x.size, t), msps(x.size, c)))
     # machine-speed yardstick: one dependent floating-point add per sample
     # (any recursive filter is bound by such a chain; the chain has several)
-    t = best_time(lambda: np.cumsum(x, out=dst), max(args.repeat, 3))
-    rows.append(("numpy.cumsum (one dependent add/sample)", "cumsum_msps", x.size, t, msps(x.size, t)))
+    t, c = best_time(lambda: np.cumsum(x, out=dst), max(args.repeat, 3))
+    rows.append(("numpy.cumsum (one dependent add/sample)", "cumsum_msps", x.size, t, msps(x.size, t),
+                 msps(x.size, c)))
 
-    fig = {key: round(v, 4) for _, key, _, _, v in rows}
+    fig = {key: round(v, 4) for _, key, _, _, v, _ in rows}
+    fig.update({key + "_cpu": round(v, 4) for _, key, _, _, _, v in rows})
     fig["kalman_over_filterpy"] = round(fig["kalman_msps"] / fig["filterpy_kalman_msps"], 1)
     fig["copy_over_chain"] = round(fig["copy_msps"] / fig["chain_msps"], 2)
+    fig["copy_over_chain_cpu"] = round(fig["copy_msps_cpu"] / fig["chain_msps_cpu"], 2)
     fig["n"] = args.n
     fig["slice"] = args.slice
     fig["repeat"] = args.repeat
     fig["machine"] = f"{platform.machine()} {platform.processor() or ''} {os.cpu_count()} cpus".strip()
+    fig["load_avg_1min_before"] = load_before
     fig["load_avg_1min"] = os.getloadavg()[0]
 
-    print(f"{'what':40s} {'samples':>10s} {'seconds':>9s} {'M samples/s':>12s}")
-    for name, _, n, t, v in rows:
-        print(f"{name:40s} {n:10d} {t:9.4f} {v:12.3f}")
+    print(f"{'what':40s} {'samples':>10s} {'seconds':>9s} {'M samples/s':>12s} {'M/s per CPU s':>14s}")
+    for name, _, n, t, v, vc in rows:
+        print(f"{name:40s} {n:10d} {t:9.4f} {v:12.3f} {vc:14.3f}")
     print(f"Kalman stage / filterpy: {fig['kalman_over_filterpy']:.0f}x (target >= 1000x); "
           f"chain {fig['chain_msps']:.1f} M/s (target >= 50); copy / chain: {fig['copy_over_chain']:.1f}x "
-          f"(target <= 10x); 1-min load average {fig['load_avg_1min']:.2f}")
+          f"(target <= 10x); per CPU second: chain {fig['chain_msps_cpu']:.1f} M/s, copy / chain "
+          f"{fig['copy_over_chain_cpu']:.1f}x; 1-min load average {fig['load_avg_1min_before']:.2f} before, "
+          f"{fig['load_avg_1min']:.2f} after")
     if args.json:
         from pysig.io import atomic_output
         with atomic_output(args.json) as fh:

@@ -106,41 +106,68 @@ static sig_real safe_mean_f(const sig_antipulse_f *s)
     return acc;
 }
 
+/* Maximum and minimum of the window (the evicted extreme made them stale). */
+static void rescan_f(sig_antipulse_f *s)
+{
+    sig_real mx = s->buf[0], mn = s->buf[0], v;   /* locals: kept in registers */
+    uint8_t i;
+    for (i = 1u; i < s->count; i++) {
+        v = s->buf[i];
+        mx = v > mx ? v : mx;
+        mn = v < mn ? v : mn;
+    }
+    s->mx = mx;
+    s->mn = mn;
+}
+
+static void resum_f(sig_antipulse_f *s)
+{
+    sig_real sum = s->buf[0];
+    uint8_t i;
+    for (i = 1u; i < s->count; i++) sum += s->buf[i];
+    s->sum = sum;
+}
+
 sig_status sig_antipulse_step_f(sig_antipulse_f *s, sig_real x, sig_real *out)
 {
-    sig_real old, t, v;
-    bool full;
-    uint8_t i;
+    sig_real old, t;
+    uint8_t head;
     if (!s || !out) return SIG_ERR_ARG;
     if (!is_finite(x)) return SIG_ERR_NONFINITE;
-    full = s->count == s->n;
-    old = s->buf[s->head];
-    s->buf[s->head] = x;
-    s->head++;
-    if (s->head >= s->n) s->head = 0u;
-    if (!full) s->count++;
-    /* extremes: rescan only when one of them leaves the window */
+    head = s->head;
+    if (s->count == s->n) {
+        /* the steady state: a full window, one sample in, one out */
+        old = s->buf[head];
+        s->buf[head] = x;
+        head++;
+        if (head >= s->n) head = 0u;
+        s->head = head;
+        if (old == s->mx || old == s->mn) {
+            rescan_f(s);
+        } else {
+            s->mx = x > s->mx ? x : s->mx;
+            s->mn = x < s->mn ? x : s->mn;
+        }
+        s->sum = (s->sum - old) + x;
+        if (head == 0u || !is_finite(s->sum)) resum_f(s);
+        t = s->sum - s->mx - s->mn;
+        *out = is_finite(t) ? t * s->inv : safe_mean_f(s);
+        return SIG_OK;
+    }
+    /* filling */
+    s->buf[head] = x;
+    head++;
+    if (head >= s->n) head = 0u;
+    s->head = head;
+    s->count++;
     if (s->count == 1u) {
         s->mx = s->mn = x;
-    } else if (full && (old == s->mx || old == s->mn)) {
-        sig_real mx = s->buf[0], mn = s->buf[0];     /* locals: kept in registers */
-        for (i = 1u; i < s->count; i++) {
-            v = s->buf[i];
-            mx = v > mx ? v : mx;
-            mn = v < mn ? v : mn;
-        }
-        s->mx = mx;
-        s->mn = mn;
     } else {
         if (x > s->mx) s->mx = x;
         if (x < s->mn) s->mn = x;
     }
-    /* sum: incremental, recomputed when the write position wraps */
-    s->sum = full ? (s->sum - old) + x : s->sum + x;
-    if (s->head == 0u || !is_finite(s->sum)) {
-        s->sum = s->buf[0];
-        for (i = 1u; i < s->count; i++) s->sum += s->buf[i];
-    }
+    s->sum = s->sum + x;
+    if (head == 0u || !is_finite(s->sum)) resum_f(s);
     if (s->count == 1u) {
         *out = x;
     } else if (s->count == 2u) {
@@ -149,7 +176,7 @@ sig_status sig_antipulse_step_f(sig_antipulse_f *s, sig_real x, sig_real *out)
     } else {
         t = s->sum - s->mx - s->mn;
         if (!is_finite(t)) *out = safe_mean_f(s);
-        else if (full || s->count == s->n) *out = t * s->inv;
+        else if (s->count == s->n) *out = t * s->inv;
         else *out = t / (sig_real)(s->count - 2u);
     }
     return SIG_OK;

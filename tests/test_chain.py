@@ -121,6 +121,54 @@ def test_step_equals_process(sig, kw, fixed):
     np.testing.assert_array_equal(np.array([s[1] for s in stepped]), stable)
 
 
+def _state(c):
+    return (c.x, c.K, c.P, c.innovation, c.Dc, c.window_count, c.offset, c.stable, c.tare_pending)
+
+
+@SETTINGS
+@given(signals(allow_nonfinite=True, extreme=True), chain_kwargs(), st.booleans(), st.booleans())
+def test_batch_process_equals_the_step_loop_split(sig, kw, fixed, tare):
+    """process() without flags runs the C batch entry point (sig_chain_process_*,
+    a fast path for the steady state); with flags it loops over the step
+    function.  Split at random points, with a tare in between, the two give
+    the same outputs, flags, final status and state, bit for bit."""
+    x, cuts = sig
+    if fixed:
+        x = np.nan_to_num(x, nan=0.0, posinf=1e9, neginf=-1e9)
+    stepped, _ = both("Chain", fixed=fixed, **kw)
+    batch = C.Chain(fixed=fixed, **kw)
+    outs = []
+    for part in split(x, cuts):
+        o1, s1, st1 = stepped.process(part, flags=True)
+        o2, s2 = batch.process(part)
+        outs.append((o1, s1, o2, s2))
+        if len(part):
+            assert batch.status == st1[-1]
+        assert _state(batch) == pytest.approx(_state(stepped), rel=0, abs=0, nan_ok=True)
+        if tare:
+            assert batch.tare() == stepped.tare()
+    for o1, s1, o2, s2 in outs:
+        np.testing.assert_array_equal(o1, o2)
+        np.testing.assert_array_equal(s1, s2)
+
+
+@pytest.mark.parametrize("huge", [1e299, 1e301, 1e307, 1.7e308])
+def test_batch_process_at_the_overflow_guards(huge):
+    """Samples around the batch fast path's magnitude bound (1e300) and the
+    largest doubles take the step path where the overflow guards act: same
+    results as the step loop, finite after the first finite sample."""
+    rng = np.random.default_rng(3)
+    x = np.concatenate([rng.normal(0, 1, 40), [huge, -huge, huge, huge, huge], rng.normal(5, 1, 60),
+                        np.full(30, -huge), rng.normal(0, 1, 40)])
+    for kw in (dict(preset="paper"), dict(preset="recommended", units_per_kg=1.0, lockout_n=2, A0=1e305)):
+        a, b = C.Chain(**kw), C.Chain(**kw)
+        o1, s1, _ = a.process(x, flags=True)
+        o2, s2 = b.process(x)
+        np.testing.assert_array_equal(o1, o2)
+        np.testing.assert_array_equal(s1, s2)
+        assert np.isfinite(o2).all()
+
+
 @SETTINGS
 @given(signals(allow_nonfinite=True), chain_kwargs())
 def test_nonfinite_never_enters_the_state(sig, kw):
