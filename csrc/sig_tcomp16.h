@@ -1,0 +1,79 @@
+/* sig_tcomp16.h - compact fixed-point temperature compensation of 1..3 axes:
+ * the offset polynomial of sig_tcomp.h (same model, same clamping), spelt
+ * for a 16x16 hardware multiplier.  Every product is an UNSIGNED 16x16->32
+ * product, no shift is variable except one per call, no int64.
+ *
+ *     out = sat16(in - round(delta(t))),   delta(t) = f(t) - f(T0)
+ *
+ * ---- Fixed-point form (sig_tcomp16_q) -----------------------------------
+ *   temperature  int16_t, 0.01 °C (as sig_tcomp.h), clamped to [t_lo, t_hi]
+ *                (the model is flat beyond; SIG_WARN_CLAMPED is returned).
+ *   abscissa     v = clamp(t) - t_lo, 0 .. t_hi - t_lo (uint16, exact: no
+ *                scaling, no rounding), and w = v * 2^w_shift <= 65535
+ *                (w_shift fixed at init, >= 1 when order >= 2 so that w is
+                even: the calibrated range is then at most 327.67 °C wide).
+ *   polynomial   delta(v) = sum_k c_k v^k (LSB, v in 0.01 °C), Horner with
+ *                a fixed 16-bit shift per level:
+ *                  h[order]  = top                          int16
+ *                  h[k]      = floor((h[k+1] * w + add_k) / 2^16)   int16,
+ *                              k = order-1 .. 1             (add_k int32)
+ *                  corr      = floor((h[1] * v + add_0) / 2^16)     int16
+ *                h[k] ~ p_k(v) * 2^E_k with p_k(v) = sum_{i>=k} c_i v^(i-k),
+ *                E_1 = 16, E_(k+1) = E_k + 16 - w_shift; add_k holds
+ *                c_k * 2^(E_k + 16) + 2^15 (the rounding of the level) and
+ *                add_0 = c_0 * 2^16 + 2^15 (so corr = round(delta)).
+ *   output       out = sat16(in - corr); SIG_WARN_SATURATED at a rail.
+ *   No overflow: init accepts coefficients only when a bound through the
+ *   levels (|h[k]| <= 32767, |h*w + add| < 2^31) holds for every v in
+ *   range; the hot path then needs no saturation test.  pysig.quant
+ *   (quantize_compact) chooses the coefficients under the same test.
+ *   How the products stay unsigned: the code carries U = h + 2^15 (uint16,
+ *   the high word of (x + 2^31), no sign handling) and multiplies U * w;
+ *   U * w = h * w + 2^15 * w, and the 2^15 * w term, the same for every
+ *   axis, is subtracted once per call (mod 2^32, all unsigned).
+ *   Cost of one call: order * n_axes products of 16x16 bits (order 2,
+ *   3 axes: 6), one variable 16-bit shift (w), no division.
+ *
+ * Compared with sig_tcomp_q (int32 coefficients, Q15 abscissa, any slope):
+ * this form covers slopes |p_1(v)| < 0.5 LSB per 0.01 °C (50 LSB/°C) and
+ * rounds each level to 2^-16 of its unit, so it adds up to ~0.5 * n_levels *
+ * (t_hi - t_lo) / 65536 LSB of quantisation error (pysig.quant measures the
+ * exact figure over every temperature of the range).
+ */
+#ifndef SIG_TCOMP16_H
+#define SIG_TCOMP16_H
+
+#include "sig_types.h"
+
+#define SIG_TCOMP16_MAX_AXES  3u
+#define SIG_TCOMP16_MIN_ORDER 1u
+#define SIG_TCOMP16_MAX_ORDER 5u
+
+typedef struct {
+    /* per axis, in evaluation order: add_(order-1) .. add_1, add_0, each
+     * stored + 2^31 (mod 2^32: offset binary, see the header comment) */
+    uint32_t add[SIG_TCOMP16_MAX_AXES][SIG_TCOMP16_MAX_ORDER];
+    uint16_t top[SIG_TCOMP16_MAX_AXES];   /* top + 2^15 (offset binary) */
+    int16_t t_lo, t_hi;                   /* calibrated range, 0.01 °C, t_lo < t_hi */
+    uint8_t w_shift;                      /* (t_hi - t_lo) << w_shift <= 65535 */
+    uint8_t order;                        /* 1..5 */
+    uint8_t n_axes;                       /* 1..3 */
+} sig_tcomp16_q;
+
+/* Check and store a compact model.  top: n_axes values; add: n_axes * order
+ * values, axis-major, each axis in evaluation order add_(order-1) .. add_0
+ * (add_0 last).  SIG_ERR_ARG (and *m untouched) for NULL pointers, n_axes
+ * outside 1..3, order outside 1..5, t_lo >= t_hi, (t_hi - t_lo) << w_shift
+ * above 65535, w_shift outside 1..15 (0..15 for order 1), or coefficients for which an intermediate could leave its
+ * range (see the header comment). */
+sig_status sig_tcomp16_init(sig_tcomp16_q *m, uint8_t n_axes, uint8_t order,
+                            const int16_t *top, const int32_t *add,
+                            int16_t t_lo, int16_t t_hi, uint8_t w_shift);
+
+/* THE firmware entry point: compensate the n_axes int16 readings in[] taken
+ * at temperature t (0.01 °C) into out[] (may be the same array).  SIG_OK, or
+ * an OR of SIG_WARN_CLAMPED (t outside [t_lo, t_hi]) and SIG_WARN_SATURATED
+ * (an output hit an int16 rail); SIG_ERR_ARG (out untouched) for NULL. */
+sig_status sig_tcomp16_apply_q(const sig_tcomp16_q *m, int16_t t, const int16_t *in, int16_t *out);
+
+#endif /* SIG_TCOMP16_H */

@@ -1,0 +1,100 @@
+# cython: language_level=3
+"""Cython bridge to csrc/sig_tcomp16.c: the compact fixed-point temperature
+compensation (int16 multiplicands, 16x16 products) over numpy arrays.  The
+coefficients come from pysig.quant.quantize_compact."""
+import numpy as np
+cimport numpy as cnp
+from libc.stdint cimport int16_t, int32_t, uint8_t, uint16_t, uint32_t
+
+from .errors import RangeError
+
+cnp.import_array()
+
+cdef extern from "sig_types.h":
+    ctypedef int16_t sig_status
+
+cdef extern from "sig_tcomp16.h":
+    ctypedef struct sig_tcomp16_q:
+        uint8_t n_axes
+        uint8_t order
+        int16_t t_lo
+        int16_t t_hi
+        uint8_t w_shift
+    sig_status sig_tcomp16_init(sig_tcomp16_q *m, uint8_t n_axes, uint8_t order, const int16_t *top,
+                                const int32_t *add, int16_t t_lo, int16_t t_hi, uint8_t w_shift)
+    sig_status sig_tcomp16_apply_q(const sig_tcomp16_q *m, int16_t t, const int16_t *inp,
+                                   int16_t *out) nogil
+
+
+cdef class Tcomp16Q:
+    """The compact model of sig_tcomp16.h (temperature int16 in 0.01 °C, int16
+    readings).  Tcomp16Q.from_fields(top, add, t_lo, t_hi, w_shift) or
+    Tcomp16Q.from_compact(pysig.quant.CompactModel)."""
+    cdef sig_tcomp16_q m
+
+    @staticmethod
+    def from_fields(top, add, int t_lo, int t_hi, int w_shift):
+        cdef Tcomp16Q self = Tcomp16Q.__new__(Tcomp16Q)
+        rows = [[int(v) for v in r] for r in add]
+        tops = [int(v) for v in top]
+        n_axes, order = len(rows), (len(rows[0]) if rows else 0)
+        if not 1 <= n_axes <= 3 or not 1 <= order <= 5 or len(tops) != n_axes \
+                or any(len(r) != order for r in rows):
+            raise RangeError(f"Tcomp16Q: {n_axes} axes of order {order}, {len(tops)} top "
+                             f"coefficients (need 1..3 axes, order 1..5, one top per axis)")
+        if any(not -32768 <= v <= 32767 for v in tops) or \
+                any(not -(1 << 31) <= v < (1 << 31) for r in rows for v in r):
+            raise RangeError("Tcomp16Q: top coefficients must be int16, add constants int32")
+        for name, v in (("t_lo", t_lo), ("t_hi", t_hi)):
+            if not -32768 <= v <= 32767:
+                raise RangeError(f"Tcomp16Q: {name} = {v} outside int16")
+        if not 0 <= w_shift <= 255:
+            raise RangeError(f"Tcomp16Q: w_shift = {w_shift} outside uint8")
+        cdef cnp.ndarray[cnp.int16_t, ndim=1] tp = np.array(tops, dtype=np.int16)
+        cdef cnp.ndarray[cnp.int32_t, ndim=1] ad = np.array([v for r in rows for v in r], dtype=np.int32)
+        st = sig_tcomp16_init(&self.m, <uint8_t>n_axes, <uint8_t>order, &tp[0], &ad[0],
+                              <int16_t>t_lo, <int16_t>t_hi, <uint8_t>w_shift)
+        if st != 0:
+            raise RangeError(f"Tcomp16Q: sig_tcomp16_init rejected the parameters (status {st}): "
+                             f"range, w_shift, or coefficients whose intermediates could overflow")
+        return self
+
+    @staticmethod
+    def from_compact(compact):
+        return Tcomp16Q.from_fields(**compact.fields())
+
+    @property
+    def n_axes(self):
+        return self.m.n_axes
+
+    @property
+    def order(self):
+        return self.m.order
+
+    def apply(self, temp, readings):
+        """sig_tcomp16_apply_q per sample: temp int16 (n,), readings int16
+        (n, n_axes) -> (int16 (n, n_axes), status (n,))."""
+        cdef cnp.ndarray[cnp.int16_t, ndim=1] t = _int16(temp, "temperature")
+        x_in = np.asarray(readings)
+        if x_in.ndim == 1 and self.m.n_axes == 1:
+            x_in = x_in[:, None]
+        if x_in.ndim != 2 or x_in.shape[1] != self.m.n_axes or x_in.shape[0] != t.shape[0]:
+            raise RangeError(f"Tcomp16Q.apply: readings must be ({t.shape[0]}, {self.m.n_axes})")
+        cdef cnp.ndarray[cnp.int16_t, ndim=2] x = np.ascontiguousarray(
+            _int16(x_in, "reading").reshape(x_in.shape))
+        cdef Py_ssize_t n = t.shape[0], i
+        cdef cnp.ndarray[cnp.int16_t, ndim=2] out = np.zeros((n, self.m.n_axes), dtype=np.int16)
+        cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
+        with nogil:
+            for i in range(n):
+                st[i] = sig_tcomp16_apply_q(&self.m, t[i], &x[i, 0], &out[i, 0])
+        return out, st
+
+
+def _int16(values, what):
+    arr = np.asarray(values)
+    flat = np.ravel(arr)
+    if flat.size and (not np.all(np.isfinite(flat.astype(float))) or np.any(flat != np.round(flat))
+                      or flat.min() < -32768 or flat.max() > 32767):
+        raise RangeError(f"{what}: values must be integers within int16")
+    return np.ascontiguousarray(flat, dtype=np.int16)
