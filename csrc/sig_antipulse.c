@@ -20,10 +20,14 @@ static const uint32_t recip_table[31] = {
  * few temporaries. */
 static uint32_t mul_wide(uint32_t a, uint32_t b, uint32_t *lo_out)
 {
-    uint32_t lo = (a & 0xFFFFu) * (b & 0xFFFFu);
-    uint32_t mid = (a >> 16) * (b & 0xFFFFu);
-    uint32_t t = (a & 0xFFFFu) * (b >> 16);
-    uint32_t hi = (a >> 16) * (b >> 16);
+    /* 16-bit halves first: sdcc 4.2 --stack-auto miscompiles (a >> 16) * x
+     * of a stack parameter (the high byte of a >> 16 came out as byte 2) */
+    uint16_t a0 = (uint16_t)a, a1 = (uint16_t)(a >> 16);
+    uint16_t b0 = (uint16_t)b, b1 = (uint16_t)(b >> 16);
+    uint32_t lo = (uint32_t)a0 * b0;
+    uint32_t mid = (uint32_t)a1 * b0;
+    uint32_t t = (uint32_t)a0 * b1;
+    uint32_t hi = (uint32_t)a1 * b1;
     mid += t;                                      /* the two middle products, weight 2^16 */
     if (mid < t) hi += UINT32_C(0x10000);          /* their carry has weight 2^48 */
     t = mid << 16;
@@ -33,33 +37,23 @@ static uint32_t mul_wide(uint32_t a, uint32_t b, uint32_t *lo_out)
     return hi + (mid >> 16);
 }
 
-/* floor(a * b / 2^32), exact for all uint32 a, b. */
-static uint32_t mulhi_u32(uint32_t a, uint32_t b)
-{
-    uint32_t lo;
-    return mul_wide(a, b, &lo);
-}
-
-/* floor(u / d) for u < 2^31, 1 <= d <= 30 */
-static uint32_t udiv_small(uint32_t u, uint8_t d)
-{
-    uint32_t q = mulhi_u32(u, recip_table[d]);
-    if (u - q * (uint32_t)d >= (uint32_t)d) q++;
-    return q;
-}
-
 /* round-half-up(s / d) = floor((s + floor(d/2)) / d) for |s| < 2^30 and
  * 1 <= d <= 30, exact (Python: (s + d // 2) // d), without dividing:
- * q0 = floor(u * floor((2^32-1)/d) / 2^32) is floor(u / d) or one less
- * (since u < 2^32), so one correction makes it exact. */
+ * q0 = floor(u * floor((2^32-1)/d) / 2^32), the high word of the product, is
+ * floor(u / d) or one less (since u < 2^32), so one correction makes it
+ * exact.  One function calling mul_wide directly: on the 8051 the chain's
+ * call depth is limited by the --stack-auto stack in internal RAM. */
 static int32_t div_round_small(int32_t s, uint8_t d)
 {
     int32_t t;
+    uint32_t u, q, lo;
     if (d == 0u || d > 30u) return 0;              /* outside the contract: defined, not used */
     t = s + (int32_t)(d >> 1);
-    if (t >= 0) return (int32_t)udiv_small((uint32_t)t, d);
     /* floor(t / d) = -floor((-t + d - 1) / d) for t < 0 */
-    return -(int32_t)udiv_small((uint32_t)(-t) + (uint32_t)d - 1u, d);
+    u = t >= 0 ? (uint32_t)t : (uint32_t)(-t) + (uint32_t)d - 1u;
+    q = mul_wide(u, recip_table[d], &lo);
+    if (u - q * (uint32_t)d >= (uint32_t)d) q++;
+    return t >= 0 ? (int32_t)q : -(int32_t)q;
 }
 
 

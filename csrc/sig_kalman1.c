@@ -11,10 +11,14 @@
  * few temporaries. */
 static uint32_t mul_wide(uint32_t a, uint32_t b, uint32_t *lo_out)
 {
-    uint32_t lo = (a & 0xFFFFu) * (b & 0xFFFFu);
-    uint32_t mid = (a >> 16) * (b & 0xFFFFu);
-    uint32_t t = (a & 0xFFFFu) * (b >> 16);
-    uint32_t hi = (a >> 16) * (b >> 16);
+    /* 16-bit halves first: sdcc 4.2 --stack-auto miscompiles (a >> 16) * x
+     * of a stack parameter (the high byte of a >> 16 came out as byte 2) */
+    uint16_t a0 = (uint16_t)a, a1 = (uint16_t)(a >> 16);
+    uint16_t b0 = (uint16_t)b, b1 = (uint16_t)(b >> 16);
+    uint32_t lo = (uint32_t)a0 * b0;
+    uint32_t mid = (uint32_t)a1 * b0;
+    uint32_t t = (uint32_t)a0 * b1;
+    uint32_t hi = (uint32_t)a1 * b1;
     mid += t;                                      /* the two middle products, weight 2^16 */
     if (mid < t) hi += UINT32_C(0x10000);          /* their carry has weight 2^48 */
     t = mid << 16;
