@@ -28,11 +28,13 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "bench" / "mcu"))
 sys.path.insert(0, str(ROOT))
 import runner  # noqa: E402
+import tcomp16_vectors  # noqa: E402
 import vectors  # noqa: E402
 
 CSRC = runner.CSRC
 HARNESS = ROOT / "bench" / "mcu" / "harness"
 TCOMP_SRC = runner.csrc_sources("sig_tcomp")     # + sig_poly, sig_image, sig_crc16
+TCOMP16_SRC = runner.csrc_sources("sig_tcomp16")  # the compact form (int16 multiplicands)
 CHAIN_SRC = runner.csrc_sources("sig_chain")     # + limit, antipulse, kalman1, stable, ...
 MCLK_HZ = 8_000_000          # MSP430F5510 as in the paper
 I_ACTIVE_A = 1.56e-3         # active current at 8 MHz (the paper's figure)
@@ -52,6 +54,14 @@ def tcomp_ops(form: str, order: int, axes: int = AXES) -> dict:
     products, a 32-bit add with saturation test), then a rounding shift by q
     and a saturating subtract.  float: u = (T-c)*k; per axis `order` fmul +
     fadd, finiteness tests (x - x == 0) on u, acc and every input."""
+    if form == "fixed16":
+        # sig_tcomp16_apply_q: v = t - t_lo, w = v << s (one shift loop); per
+        # axis and level one unsigned 16x16 product (helper call), a 32-bit
+        # add of the level constant, a 16-bit subtract (the offset), and the
+        # borrow test of the last level; a 16-bit saturating subtract.
+        return {"mul16x16": order * axes, "add32": order * axes, "sub16": order * axes + axes,
+                "shift16_loop": 1, "compare": 4 + 2 * axes, "load16": 2 + axes * (2 * order + 2),
+                "store16": axes}
     if form == "fixed":
         return {"mul16x16": 1 + 2 * order * axes,
                 "add32": 2 + axes * (2 * order + 3),
@@ -129,6 +139,44 @@ def tcomp_row(order: int, form: str, hwmult: bool, vdd: float) -> dict:
             "cycles_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
             "time_us": round(t_us, 2), "energy_uj": round(I_ACTIVE_A * vdd * t_us, 4),
             "ops": tcomp_ops(form, order), "checked_vectors": n}
+
+
+def tcomp16_row(order: int, hwmult: bool, vdd: float) -> dict:
+    """The compact form (csrc/sig_tcomp16.c) on the same temperatures and
+    readings as tcomp_row, the same polynomial quantised by
+    pysig.quant.quantize_compact (bench/mcu/tcomp16_vectors.py), checked
+    against the host C before the row is returned."""
+    case = tcomp16_vectors.tcomp16_case(order)
+    gen = runner.BUILD_DIR / "gen" / f"tcomp16-o{order}"
+    tcomp16_vectors.write_tcomp16_header(case, gen / "tcomp16_vectors.h")
+    func = "sig_tcomp16_apply_q"
+    img = runner.build_msp430(TCOMP16_SRC, HARNESS / "tcomp16_harness.c", [], hwmult=hwmult,
+                              include_dirs=[gen], name=f"tcomp16-o{order}")
+    n, a = case.base.in_q.shape
+    r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
+                       reads={"vec_out": 2 * n * a, "vec_status": 2 * n})
+    from pysig._tcomp16 import Tcomp16Q
+    h_out, h_st = Tcomp16Q.from_compact(case.compact).apply(case.base.t_q, case.base.in_q)
+    if not (np.array_equal(_i16(r["reads"]["vec_out"]).reshape(n, a), h_out)
+            and np.array_equal(_i16(r["reads"]["vec_status"]), h_st)):
+        raise SystemExit(f"tcomp16 order {order}: firmware results differ from the host C")
+    _IMAGES[("tcomp16", order, hwmult)] = (img, r["funcs"][func]["instructions"])
+    clos = runner.code_closure(img, func)
+    one = r["funcs"][func]
+    model_bytes = runner.symbol_size(img, "model")
+    t_us = one["cycles"] / MCLK_HZ * 1e6
+    return {"target": "msp430f5510", "form": "fixed16", "order": order,
+            "multiplier": "hw (16x16 MPY at 0x0130 in the simulator)" if hwmult else "none",
+            "text_bytes": sum(v for k, v in clos.items() if not runner.is_helper(k)),
+            "helper_bytes": sum(v for k, v in clos.items() if runner.is_helper(k)),
+            "ram_bytes": model_bytes + one["stack_bytes"], "model_bytes": model_bytes,
+            "coef_bytes": a * (2 + 4 * order), "stack_bytes": one["stack_bytes"],
+            "cycles": one["cycles"], "instructions": one["instructions"],
+            "cycles_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
+            "time_us": round(t_us, 2), "energy_uj": round(I_ACTIVE_A * vdd * t_us, 4),
+            "ops": tcomp_ops("fixed16", order), "checked_vectors": n,
+            "drift_amplitude_lsb": round(case.amplitude, 1),
+            "compact_error_lsb": round(max(case.compact.error_lsb), 4)}
 
 
 def chain_rows_msp430(form: str, hwmult: bool, case, vdd: float) -> dict:
@@ -296,9 +344,10 @@ def main(argv=None):
 
     t1, t2, t3 = [], [], []
     for hw in (True, False) if a.table in ("1", "all") else ():
-        for form in ("fixed", "float"):
+        for form in ("fixed", "fixed16", "float"):
             for order in _orders(a.orders):
-                t1.append(tcomp_row(order, form, hw, a.vdd))
+                t1.append(tcomp16_row(order, hw, a.vdd) if form == "fixed16"
+                          else tcomp_row(order, form, hw, a.vdd))
     if t1:
         print_table1(t1, a)
     if a.table in ("2", "all"):
@@ -322,11 +371,16 @@ def print_table1(t1, a):
           f"(mspdebug 0.22 sim, classic MSP430 timing), energy at {I_ACTIVE_A * 1e3:.2f} mA, "
           f"{a.vdd} V")
     cols = ["multiplier", "form", "order", "text_bytes", "helper_bytes", "ram_bytes", "stack_bytes",
-            "cycles", "cycles_avg_batch", "time_us", "energy_uj"]
+            "cycles", "cycles_avg_batch", "time_us", "energy_uj", "compact_error_lsb",
+            "drift_amplitude_lsb"]
     print(_table([dict(r, multiplier="hw" if r["multiplier"] != "none" else "none") for r in t1], cols))
-    print("ops model per call (fixed | float):")
+    print("fixed = sig_tcomp (int32 coefficients, Q15 abscissa); fixed16 = sig_tcomp16 (int16 "
+          "multiplicands, unsigned 16x16 products; compact_error_lsb: its measured quantisation "
+          "error over every 0.01 degC of the range, on top of the 0.5 LSB output rounding)")
+    print("ops model per call (fixed | fixed16 | float):")
     for order in _orders(a.orders):
-        print(f"  order {order}: {tcomp_ops('fixed', order)} | {tcomp_ops('float', order)}")
+        print(f"  order {order}: {tcomp_ops('fixed', order)} | {tcomp_ops('fixed16', order)} | "
+              f"{tcomp_ops('float', order)}")
 
 
 
@@ -364,6 +418,12 @@ def targets(t1, t2, a):
         checks.append({"target": "float/fixed cycles >= 10x (order 2, hw)",
                        "measured": round(f2["cycles"] / q2["cycles"], 2),
                        "met": f2["cycles"] >= 10 * q2["cycles"]})
+        c2 = pick("fixed16", 2)
+        checks.append({"target": "fixed16 (compact) order-2, 3 axes, MSP430 hw <= 300 cycles",
+                       "measured": c2["cycles"], "met": c2["cycles"] <= 300})
+        checks.append({"target": "float/fixed16 cycles >= 10x (order 2, hw)",
+                       "measured": round(f2["cycles"] / c2["cycles"], 2),
+                       "met": f2["cycles"] >= 10 * c2["cycles"]})
     c51 = next((r for r in t2 if r["target"].startswith("8051") and r["form"] == "fixed"), None)
     if c51:
         checks.append({"target": "fixed chain step on the 8051 <= 3000 12T clocks",
@@ -392,6 +452,13 @@ def targets(t1, t2, a):
         print("  ... by source line (csrc/ as built; inlined code at its own line):")
         for p in lines[:12]:
             print(f"    {p['line']:<24} {p['instructions']:>6} instr")
+    if t1 and 2 in _orders(a.orders) and not checks[2]["met"] and ("tcomp16", 2, True) in _IMAGES:
+        img, n = _IMAGES[("tcomp16", 2, True)]
+        prof = runner.profile(img, "sig_tcomp16_apply_q", n)
+        profiles["sig_tcomp16_apply_q order 2 hw"] = prof
+        print("  profile of sig_tcomp16_apply_q (order 2, hw), instructions per function:")
+        for p in prof:
+            print(f"    {p['function']:<24} {p['instructions']:>6} instr  {p['calls']:>3} calls")
     if c51 and not checks[-1]["met"] and ("chain", "fixed", True) in _IMAGES:
         img, n = _IMAGES[("chain", "fixed", True)]
         prof = runner.profile(img, "sig_chain_step_q", n)
