@@ -182,13 +182,21 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
     int8_t lside, side;
     sig_real xi, y, d, m, m1, old, e, xk, dz, v, pm, den, pn;
     uint8_t j, nrun;
+    /* parameters, in locals: the stores to the window and to out[] could
+     * otherwise alias them and force a reload every sample */
+    sig_real a0, inv, band, kq, kr, step, zband, zrate;
+    uint8_t wn, lockout_n, motion_count, stable_count;
     if (!c || (n != 0u && (!x || !out || !stable))) return SIG_ERR_ARG;
     if (n == 0u) return SIG_OK;
+    a0 = c->limit.a0; inv = c->ap.inv; band = c->motion_band; kq = c->kf.q; kr = c->kf.r;
+    step = c->st.step; zband = c->zero_band; zrate = c->zero_rate;
+    wn = c->ap.n; lockout_n = c->limit.lockout_n; motion_count = c->motion_count;
+    stable_count = c->st.count;
     HOT_LOAD_F();
     for (i = 0u; i + 1u < n; i++) {
         xi = x[i];
         d = xi - dc;
-        accept = d <= c->limit.a0 && -d <= c->limit.a0;
+        accept = d <= a0 && -d <= a0;
         /* limit filter: accept, reject (not counted if non-finite), or the
          * lock-out re-seed, which goes to step_f with everything else */
         if (fast && accept && xi <= FAST_MAX && xi >= -FAST_MAX) {
@@ -200,7 +208,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         } else {
             side = d > SIG_REAL(0.0) ? (int8_t)1 : (int8_t)-1;
             nrun = side != lside ? 1u : (lrun < 255u ? (uint8_t)(lrun + 1u) : lrun);
-            if (!fast || accept || (c->limit.lockout_n != 0u && nrun >= c->limit.lockout_n)) {
+            if (!fast || accept || (lockout_n != 0u && nrun >= lockout_n)) {
                 HOT_STORE_F();
                 if (step_f(c, xi, &out[i], &s) < 0) {
                     out[i] = xi - xi;          /* NaN: non-finite before the first finite sample */
@@ -215,7 +223,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
             y = dc;
         }
         /* anti-pulse: extremes (rescan when one leaves a full window), sum, mean */
-        if (held == c->ap.n) {
+        if (held == wn) {
             old = c->ap.buf[head];
             c->ap.buf[head] = y;
             head++;
@@ -235,7 +243,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         } else {                               /* filling: held >= 1 before this sample */
             c->ap.buf[head] = y;
             head++;
-            if (head >= c->ap.n) head = 0u;
+            if (head >= wn) head = 0u;
             held++;
             mx = y > mx ? y : mx;
             mn = y < mn ? y : mn;
@@ -245,18 +253,18 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
             sum = c->ap.buf[0];
             for (j = 1u; j < held; j++) sum += c->ap.buf[j];
         }
-        if (held == c->ap.n) m = (sum - mx - mn) * c->ap.inv;
+        if (held == wn) m = (sum - mx - mn) * inv;
         else if (held == 2u) m = sum * SIG_REAL(0.5);
         else m = (sum - mx - mn) / (sig_real)(held - 2u);
         /* motion-aware settling */
-        if (c->motion_band > SIG_REAL(0.0)) {
+        if (band > SIG_REAL(0.0)) {
             e = m - kx;
-            if (e > c->motion_band || -e > c->motion_band) {
+            if (e > band || -e > band) {
                 if (mrun < 255u) mrun++;
             } else {
                 mrun = 0u;
             }
-            if (mrun >= c->motion_count) {
+            if (mrun >= motion_count) {
                 HOT_STORE_F();
                 (void)sig_antipulse_reset_f(&c->ap);
                 (void)sig_antipulse_step_f(&c->ap, y, &m1);
@@ -269,10 +277,10 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         dc = m;
         /* Kalman: the gain update only until P reaches its fixed point */
         if (!conv) {
-            pm = kp + c->kf.q;
-            den = pm + c->kf.r;
-            kk = is_finite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + c->kf.r / pm);
-            pn = c->kf.r * kk;
+            pm = kp + kq;
+            den = pm + kr;
+            kk = is_finite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + kr / pm);
+            pn = kr * kk;
             conv = pn == kp;
             kp = pn;
         }
@@ -282,22 +290,22 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         xk = kx;
         /* stability, tare and zero tracking */
         d = xk - prev;
-        if (d <= c->st.step && -d <= c->st.step) {
+        if (d <= step && -d <= step) {
             if (srun < 255u) srun++;
         } else {
             srun = 0u;
         }
         prev = xk;
-        s = srun >= c->st.count;
+        s = srun >= stable_count;
         if (s) {
             if (c->tare_pending) {
                 offset = xk;
                 c->tare_pending = false;
-            } else if (c->zero_band > SIG_REAL(0.0)) {
+            } else if (zband > SIG_REAL(0.0)) {
                 dz = xk - offset;
-                if (dz <= c->zero_band && -dz <= c->zero_band) {
-                    if (dz > c->zero_rate) dz = c->zero_rate;
-                    if (dz < -c->zero_rate) dz = -c->zero_rate;
+                if (dz <= zband && -dz <= zband) {
+                    if (dz > zrate) dz = zrate;
+                    if (dz < -zrate) dz = -zrate;
                     offset += dz;
                 }
             }
