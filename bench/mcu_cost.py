@@ -3,7 +3,8 @@
     python bench/mcu_cost.py [--json FILE] [--vdd 3.3] [--orders 1-5]
 
 Table 1 (the paper's Table 2): temperature compensation of 3 axes
-(sig_tcomp_apply_q / _f) per polynomial order, fixed and float, on the
+(sig_tcomp_apply_q / _f) per polynomial order, fixed and float, and the
+compact fixed form (sig_tcomp16_apply_q, form "fixed16"), on the
 MSP430F5510 at 8 MHz: .text bytes of the compensation code, RAM (model +
 stack high-water), cycles per call, time, energy per call at 1.56 mA and VDD.
 Table 2: one weighing-chain step (sig_chain_step_q / _f) on the MSP430 and

@@ -176,8 +176,10 @@ def compact_eval(top, add, w_shift, v):
 def quantize_compact(model, max_error_lsb=COMPACT_MAX_ERROR_LSB, what="compact form"):
     """CompactModel for a TcompModel (pysig.model), or RangeError naming the
     axis and the limit it breaks: order above 5, a range wider than 327.67 °C
-    (order >= 2), a drift the int16 levels cannot hold (slope >= 50 LSB/°C,
-    curvature ...) or a measured error above max_error_lsb."""
+    (order >= 2), a drift whose Horner partial sums the int16 levels cannot
+    hold (sig_tcomp16_init's bound: e.g. a slope of 50 LSB/°C or more), or a
+    measured error above max_error_lsb.  The error is measured exactly, at
+    every 0.01 °C of the range, against the model's float64 delta."""
     from .reference import tcomp16 as ref16
     s = model.scaling
     order = int(model.order)
