@@ -24,10 +24,15 @@ Setup (every figure is a median and a worst case over --seeds seeds):
 - Configurations: raw samples; plain Kalman (the paper's Q 1e-7, R 0.05, x0
   1, P0 10); the paper's chain (preset "paper"); "adaptive": the paper's
   parameters with the lock-out fix (5 rejections) and the motion-aware mode
-  (band 1 kg, ~3.5 sigma of the window mean at this noise, 2 samples);
-  "adaptive_preset": Chain(preset="adaptive") as shipped (band 0.3 kg,
-  lock-out after 3); "recommended": the package default (tuned on the real
-  HX711 recording); chain_fixed / adaptive_fixed: the same chains in the
+  (band 4 sigma of the window mean from the measured noise, 2 samples);
+  "adaptive_preset" and "recommended": Chain(preset="adaptive") and the
+  package default Chain(preset="recommended") as shipped, given the sensor's
+  noise R (the variance of one reading, measured on a still record at the
+  heaviest load, pysig.weighing.noise_sigma): their A0 / motion band are
+  derived from R ("auto", pysig.reference.chain.PRESETS);
+  "recommended_hx711_R": the default left with the R of the HX711 recording
+  it was tuned on (24x below this simulator's noise: what happens when R is
+  not the sensor's); chain_fixed / adaptive_fixed: the same chains in the
   firmware's fixed-point form on integer codes.
 - Settling ("the bench"): ADC noise 0.3 uV rms (2 g), the same impulses.
   The settle time is from the load change until the output is flagged
@@ -84,6 +89,12 @@ def motion_band_for(kg_still, window=12):
     return BAND_SIGMAS * weighing.noise_sigma(kg_still) / np.sqrt(window - 2)
 
 
+def noise_r_for(kg_still):
+    """R, the variance of one reading (kg^2), from the same still record: what
+    the shipped presets derive their thresholds from."""
+    return float(weighing.noise_sigma(kg_still)) ** 2
+
+
 def fixed_chain(kg, preset, **overrides):
     """The firmware's fixed-point chain on integer codes rint(kg * counts/kg):
     the ADC codes less the calibrated zero, as the MCU would filter them."""
@@ -92,18 +103,21 @@ def fixed_chain(kg, preset, **overrides):
     return out / cpk, stable
 
 
-def configs(band):
-    """name -> function(kg array) -> (out kg, stable or None); fresh state per call."""
+def configs(band, r_noise):
+    """name -> function(kg array) -> (out kg, stable or None); fresh state per call.
+    band: the adaptive configuration's motion band; r_noise: the sensor's R
+    for the shipped presets."""
     return {
         "raw": lambda kg: (kg, None),
         "kalman": lambda kg: (chain.Kalman1(Q=1e-7, R=0.05, x0=1.0, P0=10.0).process(kg), None),
         "chain": lambda kg: chain.Chain("paper", units_per_kg=1.0).process(kg),
         "adaptive": lambda kg: chain.Chain("paper", units_per_kg=1.0, motion_band=band,
                                            **ADAPTIVE).process(kg),
-        "adaptive_preset": lambda kg: chain.Chain("adaptive", units_per_kg=1.0).process(kg),
+        "adaptive_preset": lambda kg: chain.Chain("adaptive", units_per_kg=1.0, R=r_noise).process(kg),
         "chain_fixed": lambda kg: fixed_chain(kg, "paper"),
         "adaptive_fixed": lambda kg: fixed_chain(kg, "paper", motion_band=band, **ADAPTIVE),
-        "recommended": lambda kg: chain.Chain("recommended", units_per_kg=1.0).process(kg),
+        "recommended": lambda kg: chain.Chain("recommended", units_per_kg=1.0, R=r_noise).process(kg),
+        "recommended_hx711_R": lambda kg: chain.Chain("recommended", units_per_kg=1.0).process(kg),
     }
 
 
@@ -142,10 +156,15 @@ def settle_time(out, stable, t_step, t_end, target):
     return None if idx is None else (idx - i0) / RATE
 
 
+def bench_still(cal):
+    """60 s of the heaviest load held still on the bench setting (kg)."""
+    p = LoadCellParams(**CELL, **BENCH, load_steps=((0.0, float(max(STAIRS))),), duration_s=60.0)
+    return cal.to_mass(simulate(p, seed=99)["counts"])
+
+
 def bench_band(cal):
     """Motion band for the bench setting: from 60 s of the heaviest load held still."""
-    p = LoadCellParams(**CELL, **BENCH, load_steps=((0.0, float(max(STAIRS))),), duration_s=60.0)
-    return motion_band_for(cal.to_mass(simulate(p, seed=99)["counts"]))
+    return motion_band_for(bench_still(cal))
 
 
 def swing_bound(swing):
@@ -163,7 +182,8 @@ def swing_bound(swing):
 
 
 def settle_seed(seed, cal):
-    cfgs = configs(bench_band(cal))
+    still = bench_still(cal)
+    cfgs = configs(motion_band_for(still), noise_r_for(still))
     res = {}
     p = LoadCellParams(**CELL, **BENCH, load_steps=PAPER_STEP, duration_s=PAPER_RUN_S)
     kg = cal.to_mass(simulate(p, seed=seed)["counts"])
@@ -201,8 +221,9 @@ def run(n_seeds):
         cals[s], mv = calibrate_seed(s)
         sens.append(mv)
     vib = solve_vibration(seeds, cals)
-    floor_band = motion_band_for(static_run(50.0, 99, vib, cals[0]))
-    cfgs = configs(floor_band)
+    floor_still = static_run(50.0, 99, vib, cals[0])
+    floor_band, floor_r = motion_band_for(floor_still), noise_r_for(floor_still)
+    cfgs = configs(floor_band, floor_r)
     names = list(cfgs)
     err = {n: np.zeros((n_seeds, MASSES.size)) for n in names}     # % of the mass
     err_kg = {n: np.zeros((n_seeds, MASSES.size)) for n in names}
@@ -244,6 +265,14 @@ def run(n_seeds):
         "adaptive_motion_band_kg": {"floor": floor_band, "bench": bench_band(cals[0]),
                                     "rule": f"{BAND_SIGMAS:g} sigma of the anti-pulse mean, per-sample "
                                             "sigma measured on a still record at the heaviest load"},
+        "preset_noise_r_kg2": {"floor": floor_r, "bench": noise_r_for(bench_still(cals[0])),
+                               "rule": "R given to the shipped presets: variance of one reading, "
+                                       "from the same still record"},
+        "preset_thresholds_kg": {
+            name: {setting: {k: chain.chain_params(preset, units_per_kg=1.0, R=r)[k]
+                             for k in ("A0", "motion_band", "lockout_n")}
+                   for setting, r in (("floor", floor_r), ("bench", noise_r_for(bench_still(cals[0]))))}
+            for name, preset in (("adaptive_preset", "adaptive"), ("recommended", "recommended"))},
     }
     for n in names:
         m30, w30 = med(n, j30)
@@ -253,6 +282,11 @@ def run(n_seeds):
         out[f"{n}_max_err_kg_30kg"] = float(np.median(err_kg[n][:, j30]))
         out[f"{n}_max_err_pct_all"] = ma
         out[f"{n}_max_err_pct_all_worst"] = wa
+    in_range = (MASSES >= CAL_MASSES[0]) & (MASSES <= CAL_MASSES[-1])   # the calibrated 10-50 kg
+    for n in names:
+        a = err[n][:, in_range].max(axis=1)
+        out[f"{n}_max_err_pct_10to50kg"] = float(np.median(a))
+        out[f"{n}_max_err_pct_10to50kg_worst"] = float(np.max(a))
     for n in names:
         out[f"{n}_max_err_pct_30kg_first20s"] = float(np.median(early30[n]))
     out["improvement_raw_to_chain_30kg"] = out["raw_max_err_pct_30kg"] / out["chain_max_err_pct_30kg"]
@@ -278,13 +312,15 @@ def run(n_seeds):
     out["paper_lockfix_settle_s"] = st["chain_lockfix"]["median"]
     out["adaptive_settle_s"] = no_swing["adaptive"]["median"]
     out["adaptive_settle_s_worst"] = no_swing["adaptive"]["worst"]
+    out["adaptive_preset_settle_s"] = no_swing["adaptive_preset"]["median"]
+    out["adaptive_preset_settle_s_worst"] = no_swing["adaptive_preset"]["worst"]
     out["recommended_settle_s"] = no_swing["recommended"]["median"]
     out["recommended_settle_s_worst"] = no_swing["recommended"]["worst"]
     return out
 
 
 NAMES = ("raw", "kalman", "chain", "chain_fixed", "adaptive", "adaptive_fixed", "adaptive_preset",
-         "recommended")
+         "recommended", "recommended_hx711_R")
 
 
 def f(v, nd=2):
@@ -303,6 +339,11 @@ def print_tables(o):
     mb = o["adaptive_motion_band_kg"]
     print(f"adaptive motion band ({mb['rule']}): {mb['floor']:.3f} kg on the floor setting, "
           f"{mb['bench']:.4f} kg on the bench setting")
+    nr = o["preset_noise_r_kg2"]
+    print(f"{nr['rule']}: {nr['floor']:.4g} kg^2 (floor), "
+          f"{nr['bench']:.4g} kg^2 (bench); derived thresholds: " + "; ".join(
+              f"{name} {setting}: A0 {v['A0']:.4g} kg, band {v['motion_band']:.4g} kg, lock-out {v['lockout_n']}"
+              for name, d in o["preset_thresholds_kg"].items() for setting, v in d.items()))
     print()
     print("30 kg, 20 readings | max error kg (median) | % median | % worst | paper")
     print("--- | --- | --- | --- | ---")
@@ -321,6 +362,8 @@ def print_tables(o):
     for r in o["per_mass"]:
         print(f"{r['mass_kg']:.0f} | " + " | ".join(
             f"{r[n + '_max_err_pct_median']:.2f} / {r[n + '_max_err_pct_worst']:.2f}" for n in NAMES))
+    print("over the calibrated 10-50 kg (max over masses, median / worst over seeds): " + ", ".join(
+        f"{n} {o[n + '_max_err_pct_10to50kg']:.2f} / {o[n + '_max_err_pct_10to50kg_worst']:.2f} %" for n in NAMES))
     print(f"all masses: kalman {o['kalman_max_err_pct_all']:.2f} % (worst {o['kalman_max_err_pct_all_worst']:.2f}), "
           f"chain {o['chain_max_err_pct_all']:.2f} % (worst {o['chain_max_err_pct_all_worst']:.2f}), "
           f"adaptive {o['adaptive_max_err_pct_all']:.2f} % (worst {o['adaptive_max_err_pct_all_worst']:.2f}); "

@@ -314,7 +314,10 @@ cdef class Chain:
     lock-out fix, motion-aware settling and zero tracking.  Parameters
     (A0, window, Q, R, x0, P0, seed_first, stable_step, stable_count,
     lockout_n, motion_band, motion_count, zero_band, zero_rate) are in kg;
-    units_per_kg converts them to signal units (see pysig.reference.chain)."""
+    units_per_kg converts them to signal units (see pysig.reference.chain).
+    A0 and motion_band "auto" (presets recommended, adaptive) follow from R,
+    the sensor's reading variance: A0_sigmas * sqrt(R), motion_sigmas *
+    sqrt(R / (window - 2))."""
     cdef sig_chain_f f
     cdef sig_chain_q q
     cdef readonly bint fixed

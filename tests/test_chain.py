@@ -303,6 +303,46 @@ def test_fixed_only_limits_are_named():
         C.Chain(preset="fast")
 
 
+@pytest.mark.parametrize("preset", ["recommended", "adaptive"])
+@pytest.mark.parametrize("units", [None, 1.0, 64414.0])
+@pytest.mark.parametrize("r_kg", [None, 1e-4, 1.43])
+def test_presets_derive_thresholds_from_the_noise(preset, units, r_kg):
+    """A0 / motion_band "auto": A0_sigmas * sqrt(R) and motion_sigmas *
+    sqrt(R / (window - 2)), R in signal units; a number given wins."""
+    p = C.chain_params(preset, units_per_kg=units, R=r_kg)
+    base = C.PRESETS[preset]
+    s = units if units is not None else base["units_per_kg"]
+    r = (r_kg if r_kg is not None else base["R"]) * s * s
+    assert p["R"] == pytest.approx(r, rel=1e-12)
+    assert p["motion_band"] == pytest.approx(4.0 * math.sqrt(r / 10), rel=1e-12)
+    if base["A0"] == "auto":
+        assert p["A0"] == pytest.approx(6.0 * math.sqrt(r), rel=1e-12)
+    else:
+        assert p["A0"] == pytest.approx(base["A0"] * s, rel=1e-12)
+    q = C.chain_params(preset, units_per_kg=units, R=r_kg, window=7, motion_sigmas=3.0, A0_sigmas=8.0)
+    assert q["motion_band"] == pytest.approx(3.0 * math.sqrt(r / 5), rel=1e-12)
+    given = C.chain_params(preset, units_per_kg=units, R=r_kg, motion_band=0.5, A0=3.0)
+    assert (given["motion_band"], given["A0"]) == pytest.approx((0.5 * s, 3.0 * s), rel=1e-12)
+    # the C chain runs the derived numbers, in both forms
+    for fixed in (False, True):
+        try:
+            C.Chain(preset, fixed=fixed, units_per_kg=units, R=r_kg)
+        except RangeError:
+            assert fixed                      # e.g. Q/R beyond the fixed form's range
+    assert C.chain_params("paper", motion_band="auto")["motion_band"] == pytest.approx(4 * math.sqrt(0.05 / 10))
+
+
+def test_auto_thresholds_bad_values_are_named():
+    with pytest.raises(RangeError, match="motion_band"):
+        C.chain_params("recommended", motion_band="fast")
+    with pytest.raises(RangeError, match="A0_sigmas"):
+        C.chain_params("recommended", A0_sigmas=0.0)
+    with pytest.raises(RangeError, match="motion_sigmas"):
+        C.chain_params("recommended", motion_sigmas=-1.0)
+    with pytest.raises(RangeError, match="A0"):
+        C.chain_params("recommended", units_per_kg=1.0, R=1e-300, A0_sigmas=1e-200)    # underflows to 0
+
+
 def test_presets_paper_values():
     p = C.chain_params("paper")
     assert (p["Q"], p["R"], p["x0"], p["P0"], p["window"], p["stable_count"]) == (1e-7, 0.05, 1.0, 10.0, 12, 1)

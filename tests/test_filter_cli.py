@@ -24,6 +24,10 @@ def read_out(path):
     (["--preset", "paper", "--units-per-kg", "2204.6"], dict(preset="paper", units_per_kg=2204.6)),
     (["--window", "8", "--lockout-n", "5", "--motion-band", "0.05", "--Q", "1e-7", "--no-seed-first"],
      dict(window=8, lockout_n=5, motion_band=0.05, Q=1e-7, seed_first=False)),
+    (["--preset", "paper", "--units-per-kg", "2204.6", "--motion-band", "auto", "--A0", "AUTO", "--R", "2e-3",
+      "--motion-sigmas", "3", "--lockout-n", "3"],
+     dict(preset="paper", units_per_kg=2204.6, motion_band="auto", A0="auto", R=2e-3, motion_sigmas=3.0,
+          lockout_n=3)),
 ])
 def test_filter_writes_input_columns_plus_filtered_and_stable(tmp_path, extra, kw):
     src = require_shared_data(HX711)

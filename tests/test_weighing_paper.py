@@ -63,6 +63,22 @@ def test_adaptive_settles_fast_and_stays_accurate(figures):
     assert figures["chain_max_err_pct_all_worst"] > 10.0
 
 
+def test_shipped_presets_given_the_sensors_noise(figures):
+    """recommended (the default) and adaptive as shipped, given the sensor's R:
+    their A0 / motion band follow from it, and they are as accurate as the
+    paper's chain over the calibrated 10-50 kg (and within the paper's 0.4 %)
+    while settling within 2 s after a load change."""
+    for n in ("recommended", "adaptive_preset"):
+        assert figures[f"{n}_max_err_pct_10to50kg"] <= 0.4, n
+        assert figures[f"{n}_max_err_pct_10to50kg"] <= 1.05 * figures["chain_max_err_pct_10to50kg"], n
+        assert figures[f"{n}_max_err_pct_30kg"] <= 1.1 * figures["chain_max_err_pct_30kg"], n
+        assert figures[f"{n}_max_err_pct_10to50kg_worst"] < 1.0, n
+        assert figures[f"{n}_settle_s"] <= 2.0 and figures[f"{n}_settle_s_worst"] <= 2.0, n
+    # the thresholds follow R: left at the R of the HX711 recording the
+    # default was tuned on (24x quieter than this simulator), it errs by %
+    assert figures["recommended_hx711_R_max_err_pct_30kg"] > 1.0
+
+
 def test_json_fields(figures):
     for key in ("raw_max_err_pct_30kg", "kalman_max_err_pct_30kg", "chain_max_err_pct_30kg",
                 "kalman_max_err_pct_all", "chain_max_err_pct_all", "paper_settle_s",

@@ -9,7 +9,10 @@ The default preset, `recommended`, is tuned on a real HX711 recording and
 expects HX711-class counts (1000 counts per lb) unless --units-per-kg says
 otherwise; `paper` reproduces the paper's parameters exactly (kg signal by
 default).  Every parameter option is in kg (variances in kg^2) and is
-converted to signal units with --units-per-kg.  --fixed runs the firmware's
+converted to signal units with --units-per-kg.  The presets `recommended`
+and `adaptive` derive their thresholds from --R, the variance of one reading
+of your sensor (--A0 auto = A0-sigmas * sqrt(R); --motion-band auto =
+motion-sigmas * sqrt(R / (window - 2))): give your sensor's R and they follow.  --fixed runs the firmware's
 fixed-point C code (samples rounded to integer codes)."""
 import numpy as np
 
@@ -18,9 +21,17 @@ from ..errors import InputFileError, NonFiniteError, SaturationError
 from ..reference.chain import CODE_MAX
 from ..io import read_csv, write_csv
 
+
+
+def _kg_or_auto(text):
+    """A number (kg) or 'auto' (derived from R by the preset's rule)."""
+    return "auto" if text.strip().lower() == "auto" else float(text)
+
+
 # option -> (parameter name, type, help)
 PARAMS = [
-    ("--A0", "A0", float, "limit filter threshold, kg"),
+    ("--A0", "A0", _kg_or_auto, "limit filter threshold, kg, or 'auto' (A0-sigmas * sqrt(R))"),
+    ("--A0-sigmas", "A0_sigmas", float, "A0 'auto': sigmas of one reading (sqrt(R))"),
     ("--window", "window", int, "anti-pulse window N (3..32)"),
     ("--Q", "Q", float, "Kalman process noise, kg^2"),
     ("--R", "R", float, "Kalman measurement noise, kg^2"),
@@ -29,7 +40,10 @@ PARAMS = [
     ("--stable-step", "stable_step", float, "stability: max change between outputs, kg"),
     ("--stable-count", "stable_count", int, "stability: successive samples within the step"),
     ("--lockout-n", "lockout_n", int, "lock-out fix: rejections on one side before re-seeding (0 = off)"),
-    ("--motion-band", "motion_band", float, "motion mode: |window mean - estimate| that means motion, kg (0 = off)"),
+    ("--motion-band", "motion_band", _kg_or_auto,
+     "motion mode: |window mean - estimate| that means motion, kg (0 = off), or 'auto' "
+     "(motion-sigmas * sqrt(R / (window - 2)))"),
+    ("--motion-sigmas", "motion_sigmas", float, "motion band 'auto': sigmas of the window mean"),
     ("--motion-count", "motion_count", int, "motion mode: successive samples beyond the band"),
     ("--zero-band", "zero_band", float, "zero tracking band around zero, kg (0 = off)"),
     ("--zero-rate", "zero_rate", float, "zero tracking: max offset change per sample, kg"),

@@ -39,6 +39,17 @@ LB_PER_KG = 1 / 0.45359237
 
 # Presets.  Every value is in kg (variances in kg^2); `units_per_kg` is the
 # default scale of the signal the preset expects.
+#
+# Thresholds from the noise.  A0 and motion_band may be "auto": they are then
+# derived from R, the variance of one reading (in signal units, after the
+# scale), so that they follow the sensor they are used on:
+#     A0          = A0_sigmas * sqrt(R)                    (sigmas of one reading)
+#     motion_band = motion_sigmas * sqrt(R / (window - 2))  (sigmas of the window mean)
+# A number given for A0 or motion_band (preset or override) is used as is, in
+# kg.  The firmware's C chain takes the resulting numbers (sig_chain_params_*).
+# R is the sensor's measured noise: a scale with another cell or ADC passes
+# its own R (for example from pysig.weighing.noise_sigma on a still record)
+# and the thresholds follow.
 PRESETS = {
     # The paper exactly: Q, R, x0, P0, N as published.  A0 is not given in
     # the paper: 2 kg, just above its largest raw reading error (1.86 kg at
@@ -48,33 +59,36 @@ PRESETS = {
     "paper": dict(A0=2.0, window=12, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False,
                   stable_step=0.01, stable_count=1, lockout_n=0,
                   motion_band=0.0, motion_count=1, zero_band=0.0, zero_rate=0.0,
-                  units_per_kg=1.0),
-    # The paper's chain and parameters plus the fixes beyond the paper: the
-    # lock-out fix (3 rejections on one side re-seed) and motion-aware
-    # settling with a band of 0.3 kg, about 4 sigma of a 10-sample mean of
-    # the paper's R (sigma 0.22 kg per reading), twice in a row.
+                  A0_sigmas=6.0, motion_sigmas=4.0, units_per_kg=1.0),
+    # The paper's chain and parameters (A0 2 kg included) plus the fixes
+    # beyond the paper: the lock-out fix after 5 rejections on one side (3
+    # happen by chance when A0 is under 2 sigma of a reading: spurious
+    # re-seeds) and motion-aware settling with the band at 4 sigma of the
+    # window mean from R, twice in a row.
     "adaptive": dict(A0=2.0, window=12, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False,
-                     stable_step=0.01, stable_count=1, lockout_n=3,
-                     motion_band=0.3, motion_count=2, zero_band=0.0, zero_rate=0.0,
-                     units_per_kg=1.0),
+                     stable_step=0.01, stable_count=1, lockout_n=5,
+                     motion_band="auto", motion_count=2, zero_band=0.0, zero_rate=0.0,
+                     A0_sigmas=6.0, motion_sigmas=4.0, units_per_kg=1.0),
     # The default everywhere.  Tuned on the real HX711 step recording
     # (../shared/data/hx711_steps_10hz: ~1000 counts/lb, ~70 counts noise),
-    # so its default scale is HX711 counts at 1000 counts per lb.  R is the
-    # variance of one reading (0.032 kg ~ 70 counts); Q/R = 1e-3 lets the
-    # estimate forget the last swing of a load change within ~3 s (the
+    # so its default scale is HX711 counts at 1000 counts per lb and its R is
+    # that recording's (0.032 kg ~ 70 counts per reading).  Q/R = 1e-3 lets
+    # the estimate forget the last swing of a load change within ~3 s (the
     # paper's 2e-6 remembers it for ~70 s); the Kalman filter starts from the
-    # first sample; the lock-out fix accepts a level after 3 rejections on one
-    # side; motion mode restarts window and P when the window mean leaves the
-    # estimate by more than 0.03 kg (~3 sigma of the mean) twice in a row;
-    # stable after 5 steps within 4 g; zero tracking within 0.05 kg of zero at
-    # 0.5 g per sample.
-    "recommended": dict(A0=1.0, window=12, Q=1e-6, R=1e-3, x0=0.0, P0=10.0, seed_first=True,
+    # first sample; A0 at 6 sigma of a reading and the lock-out fix after 3
+    # rejections on one side; motion mode restarts window and P when the
+    # window mean leaves the estimate by more than 4 sigma of the mean twice
+    # in a row; stable after 5 steps within 4 g; zero tracking within 0.05 kg
+    # of zero at 0.5 g per sample.
+    "recommended": dict(A0="auto", window=12, Q=1e-6, R=1e-3, x0=0.0, P0=10.0, seed_first=True,
                         stable_step=0.004, stable_count=5, lockout_n=3,
-                        motion_band=0.03, motion_count=2, zero_band=0.05, zero_rate=0.0005,
-                        units_per_kg=1000.0 * LB_PER_KG),
+                        motion_band="auto", motion_count=2, zero_band=0.05, zero_rate=0.0005,
+                        A0_sigmas=6.0, motion_sigmas=4.0, units_per_kg=1000.0 * LB_PER_KG),
 }
 PARAM_NAMES = tuple(k for k in PRESETS["paper"] if k != "units_per_kg")
 _COUNTS = ("window", "stable_count", "lockout_n", "motion_count")
+AUTO = "auto"
+_DERIVED = ("A0", "motion_band")         # may be AUTO: from R (see above)
 
 
 def _check(cond, name, value, what):
@@ -89,8 +103,9 @@ def _finite(name, value):
 
 def chain_params(preset="recommended", units_per_kg=None, **overrides):
     """Parameters of a Chain in signal units (floats), from a preset in kg,
-    the scale and overrides (also in kg).  Raises RangeError naming the bad
-    parameter."""
+    the scale and overrides (also in kg).  A0 and motion_band "auto" are
+    derived from R in signal units (see PRESETS).  Raises RangeError naming
+    the bad parameter."""
     if preset not in PRESETS:
         raise RangeError(f"unknown preset {preset!r} (choose from {', '.join(PRESETS)})")
     p = dict(PRESETS[preset])
@@ -109,19 +124,38 @@ def chain_params(preset="recommended", units_per_kg=None, **overrides):
         _check(float(v) == int(v), k, v, "must be an integer")
         p[k] = int(v)
     p["seed_first"] = bool(p["seed_first"])
-    for k in ("A0", "Q", "R", "P0", "x0", "stable_step", "motion_band", "zero_band", "zero_rate"):
-        _finite(k, p[k])
-    _check(p["A0"] > 0, "A0", p["A0"], "must be > 0")
+    auto = {k for k in _DERIVED if isinstance(p[k], str)}
+    for k in auto:
+        _check(p[k] == AUTO, k, p[k], f"must be a number (kg) or {AUTO!r}")
+    for k in ("A0", "Q", "R", "P0", "x0", "stable_step", "motion_band", "zero_band", "zero_rate",
+              "A0_sigmas", "motion_sigmas"):
+        if k not in auto:
+            _finite(k, p[k])
+    if "A0" not in auto:
+        _check(p["A0"] > 0, "A0", p["A0"], "must be > 0")
+    _check(p["A0_sigmas"] > 0, "A0_sigmas", p["A0_sigmas"], "must be > 0")
     _check(3 <= p["window"] <= WINDOW_MAX, "window", p["window"], f"must be in 3..{WINDOW_MAX}")
     _check(p["R"] > 0, "R", p["R"], "must be > 0")
-    for k in ("Q", "P0", "stable_step", "motion_band", "zero_band", "zero_rate"):
-        _check(p[k] >= 0, k, p[k], "must be >= 0")
+    for k in ("Q", "P0", "stable_step", "motion_band", "zero_band", "zero_rate", "motion_sigmas"):
+        if k not in auto:
+            _check(p[k] >= 0, k, p[k], "must be >= 0")
     for k, lo in (("stable_count", 1), ("motion_count", 1), ("lockout_n", 0)):
         _check(lo <= p[k] <= 255, k, p[k], f"must be in {lo}..255")
     for k in ("A0", "x0", "stable_step", "motion_band", "zero_band", "zero_rate", "Q", "R", "P0"):
+        if k in auto:
+            continue
         given = p[k]
         p[k] = float(given) * s * (s if k in ("Q", "R", "P0") else 1.0)
         _check(math.isfinite(p[k]), k, given, f"overflows in signal units (units_per_kg={s!r})")
+    p["A0_sigmas"], p["motion_sigmas"] = float(p["A0_sigmas"]), float(p["motion_sigmas"])
+    if "A0" in auto:
+        p["A0"] = p["A0_sigmas"] * math.sqrt(p["R"])
+        _check(p["A0"] > 0 and math.isfinite(p["A0"]), "A0", AUTO,
+               f"A0_sigmas * sqrt(R) = {p['A0']!r} in signal units must be finite and > 0")
+    if "motion_band" in auto:
+        p["motion_band"] = p["motion_sigmas"] * math.sqrt(p["R"] / (p["window"] - 2))
+        _check(math.isfinite(p["motion_band"]), "motion_band", AUTO,
+               "motion_sigmas * sqrt(R / (window - 2)) overflows in signal units")
     return p
 
 
