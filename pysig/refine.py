@@ -17,6 +17,8 @@ is added only if
     error over a window of n / `test_blocks` samples; statsmodels OLS) at
     p < alpha / (number of candidates tried in that step) (Bonferroni), and
   * the CV RMS drops by at least `min_gain` (relative; default 2 %).
+A candidate whose fitted time constant or width sits at the top of its
+search range is not tried (see at_search_edge).
 
 Unexplained structure: on the final residual, statsmodels' Ljung-Box test
 (acorr_ljungbox) for autocorrelation, and a one-way ANOVA of the residual
@@ -43,6 +45,7 @@ MAX_BASE_ORDER = 5
 LB_P = 1e-3
 ACF1_MATERIAL = 0.2
 TIME_R2_MATERIAL = 0.10
+EDGE_LOG_MARGIN = 0.05         # within 5 % of the top of a parameter's search range
 
 
 @dataclass
@@ -209,6 +212,22 @@ def candidate_relations(data, model):
     return out
 
 
+def at_search_edge(data, family, spec):
+    """None, or what is wrong when `family`'s fitted parameter in `spec` sits
+    at the top of its search range (a time constant of a third of the record,
+    a hysteresis width of 30 % of the span): the record does not resolve it,
+    and the term is then a slow trend in time wearing the effect's name (a
+    step in time pulls creep's time constant there).  Such a candidate is
+    not tried; what is left shows as unexplained."""
+    if family.param_name is None:
+        return None
+    eff = next(e for e in spec.effects if e.name == family.name)
+    hi = family.bounds(data)[1]
+    if np.log(eff.param) < np.log(hi) - EDGE_LOG_MARGIN:
+        return None
+    return {family.param_name: eff.param, "search_top": float(hi)}
+
+
 def repolish(data, spec, passes=2):
     """Refit every nonlinear parameter in turn with the others held
     (coordinate passes), so an effect fitted before a later one is not stuck
@@ -292,6 +311,7 @@ class Result:
     base_order_cv: dict
     steps: list
     rejected: list               # the best candidate of the last round, not added
+    at_edge: list                # candidates of the last round left out: parameter at the search edge
     base_cv_rms: float
     final_cv_rms: float
     diagnostics_before: dict
@@ -333,6 +353,7 @@ class Result:
                            "reference": self.data.labels.get("reference", "given")},
             "steps": [s.as_dict() for s in self.steps],
             "not_added": self.rejected,
+            "at_search_edge": self.at_edge,
             "unexplained": unexplained,
             "residual_vs_candidates_before": self.relations_before,
             "unavailable": self.unavailable,
@@ -377,15 +398,19 @@ def refine(data, opts=None):
                    if fx.FAMILIES[f].unavailable(data)}
     diag_before = residual_diagnostics(data, model.residual, opts.test_blocks)
     relations = candidate_relations(data, model)
-    steps, rejected = [], []
+    steps, rejected, at_edge = [], [], []
     for _ in range(opts.max_steps):
-        tried = []
+        tried, at_edge = [], []
         for name in opts.families:
             fam = fx.FAMILIES[name]
             if name in model.spec.names() or fam.unavailable(data):
                 continue
             for v in fam.variants:
                 trial = fx.fit_param(data, model.spec, fam, v)
+                edge = at_search_edge(data, fam, trial.spec)
+                if edge is not None:
+                    at_edge.append({"effect": name, "variant": v, **edge})
+                    continue
                 if any(fx.FAMILIES[e.name].param_name for e in model.spec.effects):
                     # the earlier effects' parameters move with the newcomer
                     # (a lag fitted alone absorbs part of a hysteresis)
@@ -418,7 +443,7 @@ def refine(data, opts=None):
                           cv_old, rms(e_cv_new), p, summary))
         model, e_cv = new_model, e_cv_new
     return Result(data=data, base=base, final=model, base_order_cv=order_cv, steps=steps,
-                  rejected=rejected, base_cv_rms=base_cv, final_cv_rms=rms(e_cv),
+                  rejected=rejected, at_edge=at_edge, base_cv_rms=base_cv, final_cv_rms=rms(e_cv),
                   diagnostics_before=diag_before,
                   diagnostics_after=residual_diagnostics(data, model.residual, opts.test_blocks),
                   relations_before=relations, unavailable=unavailable,

@@ -8,7 +8,7 @@ import pytest
 
 from pysig import effects as fx
 from pysig.errors import InsufficientDataError
-from pysig.refine import Options, cv_residual, fold_rows, improvement_p, refine, rms
+from pysig.refine import Options, at_search_edge, cv_residual, fold_rows, improvement_p, refine, rms
 
 from refine_synth import EFFECTS, chamber_run, fit_data
 
@@ -64,8 +64,24 @@ def test_step_outside_library_is_unexplained(seed):
     assert "time" in rep["unexplained"]["seen"] or "autocorrelated" in rep["unexplained"]["seen"]
     for step in rep["steps"]:        # whatever is added must lower the out-of-sample error
         assert step["cv_rms_after"] < step["cv_rms_before"], step
+    # nothing is named for it: creep and hysteresis, whose time constant and
+    # width run to the top of their ranges to imitate a slow trend, are left
+    # out, not claimed
+    assert rep["steps"] == [], [(s["effect"], s["params"]) for s in rep["steps"]]
+    assert "creep" in {e["effect"] for e in rep["at_search_edge"]}, rep["at_search_edge"]
     # and the loop must not pretend the step is gone
     assert res.final_rms > 2.0 * 1.0
+
+
+def test_parameter_at_search_edge_is_flagged():
+    d = fit_data(chamber_run("step", seed=0))
+    creep = fx.FAMILIES["creep"]
+    top = creep.bounds(d)[1]
+    spec = fx.ModelSpec(2, (fx.Effect("creep", 0, top * 0.99),))
+    assert at_search_edge(d, creep, spec) == {"tau_s": top * 0.99, "search_top": top}
+    spec = fx.ModelSpec(2, (fx.Effect("creep", 0, top * 0.8),))
+    assert at_search_edge(d, creep, spec) is None
+    assert at_search_edge(d, fx.FAMILIES["gain_drift"], fx.ModelSpec(2, (fx.Effect("gain_drift", 1),))) is None
 
 
 def test_blocked_folds_leave_a_guard_band():
