@@ -75,3 +75,14 @@ def test_refine_cli_too_short_is_insufficient_data(tmp_path, capsys):
     write_csv(path, {"t": np.arange(12.0), "temp": np.linspace(0, 10, 12), "x": np.arange(12.0)})
     assert main(["refine", str(path), "--time", "t", "--temp", "temp", "--columns", "x"]) == 4
     assert "usable samples" in capsys.readouterr().err
+
+
+def test_refine_cli_step_is_unexplained_not_named(tmp_path, capsys):
+    path = _write(tmp_path, "step")
+    report = tmp_path / "r.json"
+    assert main(["refine", str(path), "--time", "t", "--temp", "temp", "--columns", "x",
+                 "--ref", "ref", "--json", str(report)]) == 0
+    out = capsys.readouterr().out
+    assert "not tried: creep (tau_s = " in out and "unexplained: residual" in out, out
+    doc = json.loads(report.read_text())
+    assert doc["steps"] == [] and doc["unexplained"]["unexplained"] is True

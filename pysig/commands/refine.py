@@ -118,7 +118,7 @@ def format_table(name, result):
     for r in rep["not_added"]:
         lines.append(f"  not added: {r['effect']} (CV gain {100 * r['cv_gain']:.1f} %, "
                      f"p = {r['p_value']:.2g}, needs < {r['p_threshold']:.2g})")
-    for r in rep["at_search_edge"]:
+    for r in {r["effect"]: r for r in rep["at_search_edge"]}.values():     # one line per effect
         (pname, value), = [(k, v) for k, v in r.items() if k not in ("effect", "variant", "search_top")]
         lines.append(f"  not tried: {r['effect']} ({pname} = {value:.4g} at the top of its search "
                      f"range: not resolved by this record)")
