@@ -72,11 +72,12 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     return SIG_OK;
 }
 
-static sig_status step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *stable)
+sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *stable)
 {
     sig_status st, ret;
     sig_real y, m, xk, e, dz;
     bool stab;
+    if (!c || !out || !stable) return SIG_ERR_ARG;
     st = sig_limit_step_f(&c->limit, x, &y);
     if (st < 0) return st;                      /* non-finite and nothing seeded yet */
     ret = st;
@@ -129,202 +130,6 @@ static sig_status step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *stable
     *stable = stab;
     return ret;
 }
-
-sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *stable)
-{
-    if (!c || !out || !stable) return SIG_ERR_ARG;
-    return step_f(c, x, out, stable);
-}
-
-/* Largest |sample| the batch fast path takes: a sum of SIG_ANTIPULSE_MAX + 2
- * such values cannot overflow, so the window sum and trimmed mean need no
- * finiteness checks (DBL_MAX ~ 1.8e308, FLT_MAX ~ 3.4e38). */
-#ifdef SIG_REAL_DOUBLE
-#define FAST_MAX SIG_REAL(1e300)
-#else
-#define FAST_MAX SIG_REAL(1e36)
-#endif
-
-/* The hot state of the batch loop lives in locals (registers) instead of the
- * stage structs; these write it back before, and reload it after, anything
- * that works on the structs.  `fast` says the chain is in the state the fast
- * path is written for: every stage seeded, window values within FAST_MAX. */
-#define HOT_LOAD_F() do { \
-        dc = c->limit.dc; lrun = c->limit.run; lside = c->limit.side; \
-        sum = c->ap.sum; mx = c->ap.mx; mn = c->ap.mn; head = c->ap.head; held = c->ap.count; \
-        kx = c->kf.x; kp = c->kf.p; kk = c->kf.k; conv = c->kf.converged; \
-        prev = c->st.prev; srun = c->st.run; mrun = c->motion_run; offset = c->offset; \
-        fast = c->limit.seeded && held != 0u && c->kf.seeded && c->st.has_prev \
-               && mx <= FAST_MAX && mn >= -FAST_MAX; \
-    } while (0)
-#define HOT_STORE_F() do { \
-        c->limit.dc = dc; c->limit.run = lrun; c->limit.side = lside; \
-        c->ap.sum = sum; c->ap.mx = mx; c->ap.mn = mn; c->ap.head = head; c->ap.count = held; \
-        c->kf.x = kx; c->kf.p = kp; c->kf.k = kk; c->kf.converged = conv; \
-        c->st.prev = prev; c->st.run = srun; c->motion_run = mrun; c->offset = offset; \
-    } while (0)
-
-/* The batch form of sig_chain_step_f: x[0..n) -> out, stable (0/1).
- * In the steady state (every stage seeded, |sample| and the window within
- * FAST_MAX, no lock-out re-seed on this sample) a sample takes the fast path:
- * the operations of the stage step functions for that case, in the same
- * order, on the state held in locals; any other sample, and the last one,
- * goes through step_f.  Results are those of n calls of sig_chain_step_f, bit
- * for bit (tests/test_chain.py); the status returned is the last sample's
- * (a non-finite sample before the first finite one gives NaN, not stable). */
-sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_real *out, uint8_t *stable)
-{
-    size_t i;
-    sig_status st;
-    bool s, conv, fast, accept;
-    sig_real dc, sum, mx, mn, kx, kp, kk, prev, offset;      /* hot state */
-    uint8_t head, held, lrun, srun, mrun;
-    int8_t lside, side;
-    sig_real xi, y, d, m, m1, old, e, xk, dz, v, pm, den, pn;
-    uint8_t j, nrun;
-    /* parameters, in locals: the stores to the window and to out[] could
-     * otherwise alias them and force a reload every sample */
-    sig_real a0, inv, band, kq, kr, step, zband, zrate;
-    uint8_t wn, lockout_n, motion_count, stable_count;
-    if (!c || (n != 0u && (!x || !out || !stable))) return SIG_ERR_ARG;
-    if (n == 0u) return SIG_OK;
-    a0 = c->limit.a0; inv = c->ap.inv; band = c->motion_band; kq = c->kf.q; kr = c->kf.r;
-    step = c->st.step; zband = c->zero_band; zrate = c->zero_rate;
-    wn = c->ap.n; lockout_n = c->limit.lockout_n; motion_count = c->motion_count;
-    stable_count = c->st.count;
-    HOT_LOAD_F();
-    for (i = 0u; i + 1u < n; i++) {
-        xi = x[i];
-        d = xi - dc;
-        accept = d <= a0 && -d <= a0;
-        /* limit filter: accept, reject (not counted if non-finite), or the
-         * lock-out re-seed, which goes to step_f with everything else */
-        if (fast && accept && xi <= FAST_MAX && xi >= -FAST_MAX) {
-            y = xi;
-            lrun = 0u;
-            lside = 0;
-        } else if (fast && !is_finite(xi)) {
-            y = dc;
-        } else {
-            side = d > SIG_REAL(0.0) ? (int8_t)1 : (int8_t)-1;
-            nrun = side != lside ? 1u : (lrun < 255u ? (uint8_t)(lrun + 1u) : lrun);
-            if (!fast || accept || (lockout_n != 0u && nrun >= lockout_n)) {
-                HOT_STORE_F();
-                if (step_f(c, xi, &out[i], &s) < 0) {
-                    out[i] = xi - xi;          /* NaN: non-finite before the first finite sample */
-                    s = false;
-                }
-                stable[i] = (uint8_t)s;
-                HOT_LOAD_F();
-                continue;
-            }
-            lside = side;
-            lrun = nrun;
-            y = dc;
-        }
-        /* anti-pulse: extremes (rescan when one leaves a full window), sum, mean */
-        if (held == wn) {
-            old = c->ap.buf[head];
-            c->ap.buf[head] = y;
-            head++;
-            if (head >= held) head = 0u;
-            if (old == mx || old == mn) {
-                mx = mn = c->ap.buf[0];
-                for (j = 1u; j < held; j++) {
-                    v = c->ap.buf[j];
-                    mx = v > mx ? v : mx;
-                    mn = v < mn ? v : mn;
-                }
-            } else {
-                mx = y > mx ? y : mx;
-                mn = y < mn ? y : mn;
-            }
-            sum = (sum - old) + y;
-        } else {                               /* filling: held >= 1 before this sample */
-            c->ap.buf[head] = y;
-            head++;
-            if (head >= wn) head = 0u;
-            held++;
-            mx = y > mx ? y : mx;
-            mn = y < mn ? y : mn;
-            sum = sum + y;
-        }
-        if (head == 0u) {                      /* re-sum in storage order when the position wraps */
-            sum = c->ap.buf[0];
-            for (j = 1u; j < held; j++) sum += c->ap.buf[j];
-        }
-        if (held == wn) m = (sum - mx - mn) * inv;
-        else if (held == 2u) m = sum * SIG_REAL(0.5);
-        else m = (sum - mx - mn) / (sig_real)(held - 2u);
-        /* motion-aware settling */
-        if (band > SIG_REAL(0.0)) {
-            e = m - kx;
-            if (e > band || -e > band) {
-                if (mrun < 255u) mrun++;
-            } else {
-                mrun = 0u;
-            }
-            if (mrun >= motion_count) {
-                HOT_STORE_F();
-                (void)sig_antipulse_reset_f(&c->ap);
-                (void)sig_antipulse_step_f(&c->ap, y, &m1);
-                (void)sig_kalman1_restart_f(&c->kf);
-                c->motion_run = 0u;
-                HOT_LOAD_F();
-                m = m1;
-            }
-        }
-        dc = m;
-        /* Kalman: the gain update only until P reaches its fixed point */
-        if (!conv) {
-            pm = kp + kq;
-            den = pm + kr;
-            kk = is_finite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + kr / pm);
-            pn = kr * kk;
-            conv = pn == kp;
-            kp = pn;
-        }
-        e = m - kx;
-        if (is_finite(e)) kx = kx + kk * e;
-        else kx = (SIG_REAL(1.0) - kk) * kx + kk * m;
-        xk = kx;
-        /* stability, tare and zero tracking */
-        d = xk - prev;
-        if (d <= step && -d <= step) {
-            if (srun < 255u) srun++;
-        } else {
-            srun = 0u;
-        }
-        prev = xk;
-        s = srun >= stable_count;
-        if (s) {
-            if (c->tare_pending) {
-                offset = xk;
-                c->tare_pending = false;
-            } else if (zband > SIG_REAL(0.0)) {
-                dz = xk - offset;
-                if (dz <= zband && -dz <= zband) {
-                    if (dz > zrate) dz = zrate;
-                    if (dz < -zrate) dz = -zrate;
-                    offset += dz;
-                }
-            }
-        }
-        out[i] = xk - offset;
-        stable[i] = (uint8_t)s;
-    }
-    /* the last sample on the step path: the state completed, its status returned */
-    HOT_STORE_F();
-    st = step_f(c, x[n - 1u], &out[n - 1u], &s);
-    if (st < 0) {
-        out[n - 1u] = x[n - 1u] - x[n - 1u];
-        s = false;
-    }
-    stable[n - 1u] = (uint8_t)s;
-    return st;
-}
-#undef HOT_LOAD_F
-#undef HOT_STORE_F
 
 sig_status sig_chain_tare_f(sig_chain_f *c)
 {
@@ -395,11 +200,12 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     return SIG_OK;
 }
 
-static sig_status step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *stable)
+sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *stable)
 {
     sig_status ret = SIG_OK;
     int32_t y, m, m7, xk, dz;
     bool stab;
+    if (!c || !out_q7 || !stable) return SIG_ERR_ARG;
     if (x > SIG_CODE_MAX) { x = SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
     else if (x < -SIG_CODE_MAX) { x = -SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
     ret = (sig_status)(ret | sig_limit_step_q(&c->limit, x, &y));
@@ -448,25 +254,6 @@ static sig_status step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *stabl
     *out_q7 = c->out;
     *stable = stab;
     return ret;
-}
-
-sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *stable)
-{
-    if (!c || !out_q7 || !stable) return SIG_ERR_ARG;
-    return step_q(c, x, out_q7, stable);
-}
-
-sig_status sig_chain_process_q(sig_chain_q *c, const int32_t *x, size_t n, int32_t *out_q7, uint8_t *stable)
-{
-    size_t i;
-    sig_status st = SIG_OK;
-    bool s;
-    if (!c || (n != 0u && (!x || !out_q7 || !stable))) return SIG_ERR_ARG;
-    for (i = 0u; i < n; i++) {
-        st = step_q(c, x[i], &out_q7[i], &s);
-        stable[i] = (uint8_t)s;
-    }
-    return st;
 }
 
 sig_status sig_chain_tare_q(sig_chain_q *c)

@@ -104,21 +104,13 @@ sig_status sig_chain_params_paper_f(sig_chain_params_f *p);
 
 sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p);
 sig_status sig_chain_reset_f(sig_chain_f *c);        /* all stages, offset 0 */
-sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *stable);
-/* Batch form: n samples x -> out, stable (0/1), exactly as n calls of
- * sig_chain_step_f; returns the last sample's status (SIG_OK for n = 0).  A
- * non-finite sample before the first finite one gives out NaN, stable 0.  The
- * steady state runs on a fast path with the stage state in registers. */
-sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_real *out, uint8_t *stable);
+sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *stable);   /* a buffer at once: sig_chain_batch.h */
 sig_status sig_chain_tare_f(sig_chain_f *c);         /* now if stable, else at the next stable sample */
 sig_status sig_chain_set_offset_f(sig_chain_f *c, sig_real offset);
 
 sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p);
 sig_status sig_chain_reset_q(sig_chain_q *c);
 sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *stable);
-/* Batch form: n codes -> out_q7, stable (0/1), as n calls of sig_chain_step_q;
- * returns the last sample's status. */
-sig_status sig_chain_process_q(sig_chain_q *c, const int32_t *x, size_t n, int32_t *out_q7, uint8_t *stable);
 sig_status sig_chain_tare_q(sig_chain_q *c);
 sig_status sig_chain_set_offset_q(sig_chain_q *c, int32_t offset_q7);
 

@@ -114,14 +114,16 @@ cdef extern from "sig_chain.h":
     sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p) nogil
     sig_status sig_chain_reset_f(sig_chain_f *c) nogil
     sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, c_bool *stable) nogil
-    sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_real *out,
-                                   uint8_t *stable) nogil
     sig_status sig_chain_tare_f(sig_chain_f *c) nogil
     sig_status sig_chain_set_offset_f(sig_chain_f *c, sig_real offset) nogil
     sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p) nogil
     sig_status sig_chain_reset_q(sig_chain_q *c) nogil
     sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, c_bool *stable) nogil
-    sig_status sig_chain_process_q(sig_chain_q *c, const int32_t *x, size_t n, int32_t *out_q7,
-                                   uint8_t *stable) nogil
     sig_status sig_chain_tare_q(sig_chain_q *c) nogil
     sig_status sig_chain_set_offset_q(sig_chain_q *c, int32_t offset_q7) nogil
+
+cdef extern from "sig_chain_batch.h":
+    sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_real *out,
+                                   uint8_t *stable) nogil
+    sig_status sig_chain_process_q(sig_chain_q *c, const int32_t *x, size_t n, int32_t *out_q7,
+                                   uint8_t *stable) nogil

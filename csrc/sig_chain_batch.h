@@ -1,0 +1,27 @@
+/* sig_chain_batch.h - the weighing chain over a buffer of samples: the batch
+ * form of sig_chain_step_f / sig_chain_step_q (sig_chain.h), with the same
+ * results bit for bit.  For hosts and for firmware that filters a block of
+ * samples at once (the float form keeps the chain's hot state in registers
+ * in its steady state).  A separate module: a firmware that steps one sample
+ * at a time links none of it (sdcc --stack-auto on the 8051 would need more
+ * than its 256-byte stack for the fast path's frame). */
+#ifndef SIG_CHAIN_BATCH_H
+#define SIG_CHAIN_BATCH_H
+
+#include "sig_chain.h"
+
+/* n samples x -> out, stable (0/1), exactly as n calls of sig_chain_step_f;
+ * returns the last sample's status (SIG_OK for n = 0; SIG_ERR_ARG for a NULL
+ * pointer, nothing changed).  A non-finite sample before the first finite
+ * one gives out NaN, stable 0.  In the steady state (every stage seeded,
+ * |sample| and the window within 1e300 (double) / 1e36 (float), so that no
+ * sum can overflow, and no lock-out re-seed on the sample) the sample runs on
+ * a fast path with the stage state in locals;
+ * every other sample, and the last one, goes through sig_chain_step_f. */
+sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_real *out, uint8_t *stable);
+
+/* n codes -> out_q7, stable (0/1), as n calls of sig_chain_step_q; returns
+ * the last sample's status. */
+sig_status sig_chain_process_q(sig_chain_q *c, const int32_t *x, size_t n, int32_t *out_q7, uint8_t *stable);
+
+#endif /* SIG_CHAIN_BATCH_H */
