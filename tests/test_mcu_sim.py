@@ -1,7 +1,7 @@
 """Firmware == Python: the very csrc/ code, built for the MSP430F5510 (clang,
 hardware-multiplier helpers on mspdebug's simulated multiplier, and the
-no-multiplier build) and for the 8051 (sdcc --model-large), runs a batch of
-test vectors inside the simulators; the outputs read back must equal the host
+no-multiplier build) and for the 8051 (sdcc --model-large --stack-auto), runs
+a batch of test vectors inside the simulators; the outputs read back must equal the host
 C (through Cython) and the pure-Python reference bit for bit on the
 fixed-point path.  Float path: the MCUs compute in IEEE single, the host in
 double, so outputs agree within a stated tolerance and the status flags are
@@ -37,24 +37,18 @@ def _tools(target):
             require_tool(t)
 
 
-# sdcc --model-large alone does not link csrc/sig_tcomp.c + sig_poly.c: their
-# spill temporaries overflow the 8051's 128-byte direct RAM (DSEG).  With
-# --stack-auto they live on the stack instead (bench/mcu/README.md).
+# sdcc --model-large alone links neither csrc/sig_tcomp.c + sig_poly.c nor the
+# chain: sdcc keeps the spill temporaries of every non-reentrant function in
+# the 8051's 128-byte direct RAM (chain modules: ~390 bytes).  With
+# --stack-auto they live on the stack in internal RAM instead, and the runner
+# links sdcc's assembly __mullong (bench/mcu/README.md, "8051 memory").
 MCS51_TCOMP_FLAGS = ["--stack-auto"]
+MCS51_CHAIN_FLAGS = ["--stack-auto"]
 
-# The chain did not link for the 8051 (sdcc keeps every function's spill
-# temporaries in the 128-byte direct RAM; measured demand ~590 bytes).  While
-# that holds the 8051 chain tests xfail with the linker's message; the day
-# csrc/ fits, they run the full comparison and must pass.
+
 def _build_chain_mcs51(defines, gen):
-    try:
-        return runner.build_mcs51(CHAIN_SRC, HARNESS / "chain_harness.c", defines,
-                                  include_dirs=[gen])
-    except runner.McuError as e:
-        if "internal RAM" in str(e):
-            pytest.xfail("csrc chain does not fit the 8051's internal RAM: " +
-                         "; ".join(ln for ln in str(e).splitlines() if "ASlink-Error" in ln))
-        raise
+    return runner.build_mcs51(CHAIN_SRC, HARNESS / "chain_harness.c", defines,
+                              include_dirs=[gen], extra_flags=MCS51_CHAIN_FLAGS)
 
 
 def _build(target, sources, harness, defines, gen, hwmult=True, mcs51_flags=()):

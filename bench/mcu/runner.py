@@ -198,39 +198,101 @@ def build_msp430(sources, harness, defines=(), *, hwmult=True, name=None,
     return img
 
 
+SDCC_LIB_SRC = Path("/usr/share/sdcc/lib/src")     # Debian sdcc-libraries
+
+
+def mcs51_runtime(extra_flags=()) -> list[Path]:
+    """Runtime helpers the build links before sdcc's own libraries.
+
+    sdcc 4.2 ships its hand-written 8051 `__mullong` (MUL AB on bytes, 32x32
+    -> low 32) only for the small model; `--model-large --stack-auto` gets the
+    generic C version from large-stack-auto/liblong.lib: slower, and its
+    stack frame is what pushed the chain's call depth past 0xFF.  The
+    assembly routine touches no xdata (a in DPL/DPH/B/A, b on the internal
+    stack, result in DPL/DPH/B/A), so the very same code is correct for the
+    large model with --stack-auto: built here from sdcc's installed source
+    (_mullong.c, its small-stack-auto branch) and cached.  The bit-exact tests
+    of the chain and compensation on s51 run through it."""
+    flags = list(extra_flags)
+    if "--stack-auto" not in flags or "--xstack" in flags:
+        return []
+    src = SDCC_LIB_SRC / "_mullong.c"
+    if not src.exists():
+        raise McuError(f"{src} missing (Debian package sdcc-libraries)")
+    out = BUILD_DIR / "mcs51-rt" / _file_key([src])
+    rel = out / "mullong_auto.rel"
+    if rel.exists():
+        return [rel]
+    out.mkdir(parents=True, exist_ok=True)
+    text = _run([tool("sdcc"), "-mmcs51", "--model-large", "--stack-auto", "--std-c99",
+                 "-U__SDCC_MODEL_LARGE", "-D__SDCC_MODEL_SMALL", "-c", src, "-o", rel], cwd=out)
+    asm = (out / "mullong_auto.asm").read_text()
+    if "warning" in text.lower() or "mul\tab" not in asm:
+        raise McuError(f"sdcc did not build the assembly __mullong from {src}:\n{text}")
+    return [rel]
+
+
+MCS51_OBJ_OUTPUTS = (".rel", ".asm", ".lst", ".sym")
+
+
+def _mcs51_compile(sdcc, sources, flags, outdir) -> list[Path]:
+    """sdcc -c of each source into outdir, two at a time (sdcc takes up to a
+    minute for a large module).  Objects are cached by the preprocessed text
+    and the flags, so builds that differ only in the harness (fixed / float,
+    another vector set) compile the csrc/ modules once."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    def one(src):
+        pre = _run([sdcc, *flags, "-E", src])
+        # -I/-D are in the preprocessed text already
+        cache = BUILD_DIR / "mcs51-obj" / f"{src.stem}-{_key(pre, *[f for f in flags if f[:2] not in ('-I', '-D')])}"
+        if not (cache / (src.stem + ".rel")).exists():
+            tmp = cache.with_name(cache.name + f".tmp{os.getpid()}")
+            shutil.rmtree(tmp, ignore_errors=True)
+            tmp.mkdir(parents=True)
+            out = _run([sdcc, *flags, "-c", src, "-o", str(tmp) + "/"], cwd=tmp)
+            if "warning" in out.lower():
+                raise McuError(f"sdcc warning in {src}:\n{out}")
+            shutil.rmtree(cache, ignore_errors=True)
+            tmp.rename(cache)
+        for ext in MCS51_OBJ_OUTPUTS:
+            if (cache / (src.stem + ext)).exists():
+                shutil.copy(cache / (src.stem + ext), outdir / (src.stem + ext))
+        return outdir / (src.stem + ".rel")
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        return list(pool.map(one, [Path(s) for s in sources]))
+
+
 def build_mcs51(sources, harness, defines=(), *, name=None, include_dirs=(),
-                outdir=None, extra_flags=()) -> Image:
+                outdir=None, extra_flags=(), extra_rels=()) -> Image:
     """Compile with sdcc -mmcs51 --model-large --std-c99 --Werror; the harness
-    module (main) is linked first.  Produces .ihx, .map and one .rst per module."""
+    module (main) is linked first.  Produces .ihx, .map and one .rst per module.
+    extra_rels: objects linked after the modules; with --stack-auto the
+    assembly __mullong of mcs51_runtime() is added."""
     sdcc = tool("sdcc")
+    extra_rels = [*extra_rels, *mcs51_runtime(extra_flags)]
     sources = [Path(s).resolve() for s in sources]
     harness = Path(harness).resolve()
     dflags = _defs(defines)
     inc = [f"-I{d}" for d in [CSRC, *include_dirs, harness.parent]]
     name = name or harness.stem
-    outdir = Path(outdir or BUILD_DIR / "mcs51" / f"{name}-{_key(*dflags, *sources, *inc, *extra_flags)}")
+    outdir = Path(outdir or BUILD_DIR / "mcs51" / f"{name}-{_key(*dflags, *sources, *inc, *extra_flags, *extra_rels)}")
     if outdir.exists():                 # a failed link leaves a stale .ihx: start clean
         shutil.rmtree(outdir)
     outdir.mkdir(parents=True)
-    rels = []
-    for s in [harness, *sources]:
-        out = _run([sdcc, *MCS51_CFLAGS, *extra_flags, *dflags, *inc, "-c", s,
-                    "-o", str(outdir) + "/"], cwd=outdir)
-        if "warning" in out.lower():
-            raise McuError(f"sdcc warning in {s}:\n{out}")
-        rels.append(outdir / (s.stem + ".rel"))
+    flags = [*MCS51_CFLAGS, *extra_flags, *dflags, *inc]
+    rels = _mcs51_compile(sdcc, [harness, *sources], flags, outdir)
     ihx = outdir / f"{harness.stem}.ihx"
     for _ in range(4):      # add the csrc/*.c that define still-undefined symbols
-        out = _run([sdcc, *MCS51_CFLAGS, *extra_flags, *rels, "-o", ihx], cwd=outdir, check=False)
+        out = _run([sdcc, *MCS51_CFLAGS, *extra_flags, *rels, *extra_rels, "-o", ihx], cwd=outdir,
+                   check=False)
         extra = _csrc_defining([n[1:] for n in re.findall(r"Undefined Global '(\w+)'", out)],
                                sources)
         if not extra:
             break
-        for s in extra:
-            _run([sdcc, *MCS51_CFLAGS, *extra_flags, *dflags, *inc, "-c", s,
-                  "-o", str(outdir) + "/"], cwd=outdir)
-            rels.append(outdir / (s.stem + ".rel"))
-            sources.append(s)
+        rels += _mcs51_compile(sdcc, extra, flags, outdir)
+        sources += extra
         if ihx.exists():
             ihx.unlink()
     if "ASlink-Error" in out or "Undefined Global" in out or not ihx.exists():
@@ -396,15 +458,23 @@ def _s51(img: Image, script, cpu="C52") -> str:
                  "-e", "\n".join(list(script) + ["quit"]), img.path])
 
 
-def _mcs51_call_site(img: Image, fn: str):
-    """(address of the first 'lcall _fn' in the main module's listing, return address)"""
+def _mcs51_call_site(img: Image, fn: str, caller: str = "main"):
+    """(address of the first 'lcall _fn' inside `caller` (main) in the .rst
+    listings, return address).  Only calls in main count: a batch loop in
+    another harness function (run_batch) calls fn first."""
     pat = re.compile(r"^\s+([0-9A-F]{6}) 12 [0-9A-F]{2} [0-9A-F]{2}\s.*\blcall\s+_%s\s*$" % fn)
+    label = re.compile(r"^\s+[0-9A-F]{6}\s+\d+ (_[A-Za-z0-9_]+):\s*$")
     for rst in sorted(img.path.parent.glob("*.rst")):
+        inside = False
         for line in open(rst):
-            m = pat.match(line)
+            m = label.match(line)
             if m:
+                inside = m.group(1) == "_" + caller
+                continue
+            m = pat.match(line)
+            if m and inside:
                 return int(m.group(1), 16), int(m.group(1), 16) + 3
-    raise McuError(f"no 'lcall _{fn}' in the .rst listings of {img.path}")
+    raise McuError(f"no 'lcall _{fn}' in _{caller} of the .rst listings of {img.path}")
 
 
 def _state_delta(out: str):
@@ -424,19 +494,82 @@ def _mcs51_sp(out: str) -> int:
     return int(m[-1], 16)
 
 
-def _mcs51_1t(img, to_entry, n_instructions, cpu, chunk=4000):
-    """Opcode histogram of one call (s51 execution history, stepped in chunks
-    that fit its 10000-entry ring) weighed with the per-opcode tables of
-    mcs51/timing.py."""
-    sys.path.insert(0, str(MCU_DIR / "mcs51"))
-    import timing          # noqa: E402  (bench/mcu/mcs51/timing.py)
+def _mcs51_history(img, to_entry, n_instructions, cpu, chunk=4000) -> str:
+    """s51 output listing the execution history of n instructions from the
+    stop reached by `to_entry` (stepped in chunks that fit s51's
+    10000-entry ring)."""
     script = list(to_entry) + ["delete"]       # a breakpoint would stop a step early
     left = n_instructions
     while left > 0:
         k = min(chunk, left)
         script += ["history clear", f"step {k}", f"history list {k}"]
         left -= k
-    return timing.weigh(timing.histogram(_s51(img, script, cpu)))
+    out = _s51(img, script, cpu)
+    # from the first step on: the echo of `break` before it shows an
+    # instruction line too, which the histogram would count
+    m = re.search(r"^Stop at 0x[0-9a-f]+: \(\d+\) stepped", out, re.M)
+    if not m:
+        raise McuError("s51 did not step:\n" + out[-2000:])
+    return out[m.start():]
+
+
+def _timing():
+    sys.path.insert(0, str(MCU_DIR / "mcs51"))
+    import timing          # noqa: E402  (bench/mcu/mcs51/timing.py)
+    return timing
+
+
+def _mcs51_1t(img, to_entry, n_instructions, cpu):
+    """Opcode histogram of one call (s51 execution history) weighed with the
+    per-opcode tables of mcs51/timing.py."""
+    timing = _timing()
+    return timing.weigh(timing.histogram(_mcs51_history(img, to_entry, n_instructions, cpu)))
+
+
+def _mcs51_code_labels(img: Image) -> list:
+    """(address, name) of every code label: functions of the modules (static
+    ones too, from the .rst listings) and library routines (from the .map)."""
+    labels = {}
+    for line in open(img.path.with_suffix(".map")):
+        m = re.match(r"^C:\s+([0-9A-F]{8})\s+(\S+)", line)
+        if m and not m.group(2).startswith(("s_", "l_")):
+            labels.setdefault(int(m.group(1), 16), m.group(2))
+    for rst in img.path.parent.glob("*.rst"):
+        code = False
+        for line in open(rst):
+            m = re.search(r"\.area\s+(\S+)(.*)$", line)
+            if m:                   # labels of data areas share the addresses
+                code = "CODE" in m.group(2)
+                continue
+            m = re.match(r"^\s+([0-9A-F]{6})\s+\d+ (_[A-Za-z0-9_]+):", line)
+            if m and code:          # .map names first (__mullong, not _mullong_dummy)
+                labels.setdefault(int(m.group(1), 16), m.group(2))
+    return sorted(labels.items())
+
+
+def _profile_mcs51(img, func, n_instructions, cpu="C52"):
+    import bisect
+    timing = _timing()
+    entry = img.symbols["_" + func][1]
+    site, _ = _mcs51_call_site(img, func)
+    to_entry = [f"break {site:#x}", "run", "delete", f"break {entry:#x}", "run"]
+    out = _mcs51_history(img, to_entry, n_instructions, cpu)
+    labels = _mcs51_code_labels(img)
+    starts = [a for a, _ in labels]
+    rows = {}
+    for seg in re.split(r"^Host usage:.*$", out, flags=re.M)[1:]:
+        for m in timing._HIST_LINE.finditer(seg.split("Stop at")[0]):
+            pc, op = int(m.group(1), 16), int(m.group(2).split()[0], 16)
+            i = bisect.bisect_right(starts, pc) - 1
+            name = labels[i][1][1:] if i >= 0 else f"{pc:#x}"
+            r = rows.setdefault(name, {"function": name, "instructions": 0, "calls": 0,
+                                       "clocks_12T": 0, "clocks_1t_stc_y5": 0})
+            r["instructions"] += 1
+            r["clocks_12T"] += 12 * timing.classic_machine_cycles(op)
+            r["clocks_1t_stc_y5"] += timing.stc_y5_clocks(op)
+            if i >= 0 and pc == labels[i][0]:
+                r["calls"] += 1
+    return sorted(rows.values(), key=lambda r: -r["clocks_12T"])
 
 
 def _measure_mcs51(img, funcs, regions, reads, stack, one_t=True, cpu="C52"):
@@ -480,6 +613,10 @@ def _measure_mcs51(img, funcs, regions, reads, stack, one_t=True, cpu="C52"):
     if not st:
         raise McuError("s51 never reached _bench_done:\n" + out[-2000:])
     res["total"] = {"instructions": st[-1][0], "cycles": st[-1][4]}
+    sp = re.findall(r"Max value of stack pointer= 0x([0-9a-f]+)", out)
+    if sp:      # whole run; s51 also reports "Stack overflow" if SP passed 0xFF
+        res["total"]["max_sp"] = int(sp[-1], 16)
+    res["total"]["stack_overflow"] = "Stack overflow" in out
     for name, n in reads.items():
         res["reads"][name] = _hexdump(out, s["_" + name][1], n, _S51_DUMP)
     return res
@@ -505,7 +642,9 @@ def profile(img: Image, func: str, n_instructions: int) -> list[dict]:
     simulator single-steps the call and attributes each executed instruction
     to the function containing its address.  Rows: function, instructions
     (exclusive), calls (entries at its first address), sorted by instructions.
-    MSP430 only (mspdebug `step`); 8051 histograms come from measure()."""
+    MSP430: mspdebug `step`.  8051: s51's execution history, rows also carry
+    clocks_12T and clocks_1t_stc_y5 (mcs51/timing.py), sorted by 12T clocks;
+    static functions are named from the .rst listings."""
     return _profile(img, func, n_instructions, by_line=False)
 
 
@@ -516,8 +655,10 @@ def profile_lines(img: Image, func: str, n_instructions: int) -> list[dict]:
 
 
 def _profile(img, func, n_instructions, by_line):
+    if img.target == "mcs51" and not by_line:
+        return _profile_mcs51(img, func, n_instructions)
     if img.target != "msp430":
-        raise McuError("profile() is for MSP430 images")
+        raise McuError("profile_lines() is for MSP430 images")
     funcs = sorted((a, n) for n, a in img.symbols.items()
                    if img.sizes.get(n, 0) > 0 and a >= 0x8000)
     starts = [a for a, _ in funcs]
@@ -554,12 +695,43 @@ def _profile(img, func, n_instructions, by_line):
     return sorted(rows.values(), key=lambda r: -r["instructions"])
 
 
+def _mcs51_code_closure(img: Image, func: str) -> dict:
+    """8051: code labels reachable from _func through lcall/ljmp/acall/ajmp
+    in the .rst listings; size of a label = distance to the next code label
+    (sdcc places a module's functions back to back).  Library routines have
+    no listing here: their own calls are not followed (the fixed chain's
+    __mullong, __gptrget, __gptrput call nothing)."""
+    labels = _mcs51_code_labels(img)
+    addrs = [a for a, _ in labels]
+    size = {n: (addrs[i + 1] - a if i + 1 < len(addrs) else 0) for i, (a, n) in enumerate(labels)}
+    calls, cur = {}, None
+    for rst in img.path.parent.glob("*.rst"):
+        for line in open(rst):
+            m = re.match(r"^\s+[0-9A-F]{6}\s+\d+ (_[A-Za-z0-9_]+):", line)
+            if m:
+                cur = m.group(1)
+                continue
+            m = re.search(r"\b(?:lcall|ljmp|acall|ajmp)\s+(_[A-Za-z0-9_]+)\s*$", line)
+            if m and cur:
+                calls.setdefault(cur, set()).add(m.group(1))
+    by_name = {n: a for a, n in labels}
+    seen, todo = {}, ["_" + func]
+    while todo:
+        f = todo.pop()
+        if f in seen or f not in by_name:
+            continue
+        seen[f] = size[f]
+        todo.extend(calls.get(f, ()))
+    return {k[1:]: v for k, v in seen.items()}
+
+
 def code_closure(img: Image, func: str) -> dict:
-    """MSP430: every function reachable from `func` through calls and tail
-    branches, with its size in bytes: {name: bytes}.  Runtime helpers (names
-    starting with '__' and mem*) are included; split them with is_helper()."""
-    if img.target != "msp430":
-        raise McuError("code_closure() is for MSP430 images")
+    """Every function reachable from `func` through calls and tail branches,
+    with its size in bytes: {name: bytes}.  Runtime helpers (names starting
+    with '__' and mem*) are included; split them with is_helper().  MSP430
+    from the disassembly; 8051 from the .rst listings (_mcs51_code_closure)."""
+    if img.target == "mcs51":
+        return _mcs51_code_closure(img, func)
     dis = _run([tool("llvm-objdump-14", "llvm-objdump"), "-d", img.path])
     by_addr = {a: n for n, a in img.symbols.items() if img.sizes.get(n, 0) > 0}
     calls, cur = {}, None
@@ -583,7 +755,9 @@ def code_closure(img: Image, func: str) -> dict:
 
 
 def is_helper(name: str) -> bool:
-    return name.startswith("__") or name in ("memcpy", "memset", "memmove")
+    """Runtime helpers: MSP430 __mspabi_*, __addsf3, mem*; 8051 (C-level
+    names from code_closure) _mullong, _gptrget, ___fsadd, ..."""
+    return name.startswith("_") or name in ("memcpy", "memset", "memmove")
 
 
 def symbol_size(img: Image, name: str) -> int:
