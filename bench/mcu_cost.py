@@ -222,46 +222,61 @@ def _check_chain(case, form, reads):
         raise SystemExit(f"chain {form}: firmware results differ from the host C ({n} samples)")
 
 
+MCS51_CHAIN_FLAGS = ["--stack-auto"]
+
+
 def chain_row_mcs51(form: str, case) -> dict:
-    """The 8051 build, --model-large (state: xdata).  If sdcc cannot link it
-    the row says why (the measured internal-RAM demand) instead of a number."""
+    """The 8051 build: sdcc --model-large --stack-auto (state and vectors in
+    xdata; locals and spill temporaries on the stack in internal RAM, which
+    plain --model-large cannot hold: bench/mcu/README.md), sdcc's assembly
+    __mullong (runner.mcs51_runtime).  12T clocks from s51; 1T estimate =
+    opcode histogram x STC-Y5 table.  Code: the functions reachable from the
+    step (.rst call graph); RAM: chain state (xdata) + internal-RAM stack
+    high-water of the call."""
     gen = runner.BUILD_DIR / "gen" / "chain"
     vectors.write_chain_header(case, gen / "chain_vectors.h")
     fl = form == "float"
     func = "sig_chain_step_f" if fl else "sig_chain_step_q"
-    row = {"target": "8051 (s51 -t C52, sdcc --model-large)", "form": form, "ops": chain_ops(form)}
+    row = {"target": "8051 (s51 -t C52, sdcc --model-large --stack-auto)", "form": form,
+           "ops": chain_ops(form)}
     try:
         img = runner.build_mcs51(CHAIN_SRC, HARNESS / "chain_harness.c",
                                  ["BENCH_FLOAT"] if fl else [], include_dirs=[gen],
-                                 name=f"chain-{form}")
+                                 name=f"chain-{form}", extra_flags=MCS51_CHAIN_FLAGS)
     except runner.McuError as e:
-        need = _dseg_demand(runner.BUILD_DIR / "mcs51")
-        row.update(status="does not link", error=[ln for ln in str(e).splitlines()
-                                                    if "ASlink-Error" in ln],
-                   dseg_bytes_needed=need)
+        row.update(status="does not build", error=[ln for ln in str(e).splitlines()
+                                                    if "ASlink-Error" in ln or "warning" in ln])
         return row
     n = len(case.x)
     r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
                        reads={"vec_out": 4 * n, "vec_status": 2 * n})
+    if r["total"].get("stack_overflow"):
+        raise SystemExit(f"chain {form} on the 8051: the stack passed 0xFF (s51)")
     _check_chain(case, form, r["reads"])
+    _IMAGES[("chain", form, "mcs51")] = (img, r["funcs"][func]["instructions"])
     one = r["funcs"][func]
+    clos = runner.code_closure(img, func)
+    state = _mcs51_xdata_size(img, "chain")
     row.update(status="ok", clocks_12T=one["cycles"], instructions=one["instructions"],
                clocks_12T_avg_batch=round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
                ms_12MHz_12T=round(one["cycles"] / MCS51_HZ * 1e3, 3),
-               clocks_1T_estimate=one["clocks_1t_stc_y5"], code_bytes_fetched=one["code_bytes_fetched"],
-               stack_bytes=one["stack_bytes"])
+               clocks_1T_estimate=one["clocks_1t_stc_y5"],
+               us_1T_estimate_12MHz=round(one["clocks_1t_stc_y5"] / MCS51_HZ * 1e6, 1),
+               code_bytes_fetched=one["code_bytes_fetched"],
+               text_bytes=sum(v for k, v in clos.items() if not runner.is_helper(k)),
+               helper_bytes=sum(v for k, v in clos.items() if runner.is_helper(k)),
+               state_bytes=state, stack_bytes=one["stack_bytes"],
+               ram_bytes=state + one["stack_bytes"],
+               max_sp_batch=hex(r["total"]["max_sp"]) if "max_sp" in r["total"] else None,
+               checked_samples=n)
     return row
 
 
-def _dseg_demand(mcs51_dir: Path) -> dict:
-    """DSEG bytes per csrc module of the newest chain build (from the .rel files)."""
-    d = max((p for p in mcs51_dir.glob("chain-*") if p.is_dir()), key=lambda p: p.stat().st_mtime)
-    out = {}
-    for rel in sorted(d.glob("sig_*.rel")):
-        import re
-        m = re.search(r"^A DSEG size ([0-9A-F]+)", rel.read_text(), re.M)
-        out[rel.stem] = int(m.group(1), 16) if m else 0
-    return out
+def _mcs51_xdata_size(img, name: str) -> int:
+    """bytes of an xdata variable: distance to the next xdata symbol (.map)."""
+    xs = sorted(a for sp, a in img.symbols.values() if sp == "xram")
+    a = img.symbols["_" + name][1]
+    return next(x for x in xs if x > a) - a
 
 
 def tcomp_fast_row(order: int, vdd: float) -> dict:
@@ -393,12 +408,17 @@ def table2(a):
     print("\nTable 2 - one weighing-chain step (limit + anti-pulse + Kalman + stability), "
           f"preset {case.preset!r}, {len(case.x)} samples")
     cols = ["target", "multiplier", "form", "cycles", "cycles_avg_batch", "time_us", "text_bytes",
-            "ram_bytes", "clocks_12T", "clocks_12T_avg_batch", "clocks_1T_estimate", "status"]
+            "helper_bytes", "ram_bytes", "stack_bytes", "clocks_12T", "clocks_12T_avg_batch",
+            "clocks_1T_estimate", "status"]
     print(_table(t2, cols))
     for r in t2:
-        if r.get("status") == "does not link":
-            print(f"  {r['target']} {r['form']}: does not link - {'; '.join(r['error'])}; "
-                  f"DSEG demand per module {r['dseg_bytes_needed']} (8051 direct RAM: 128 B)")
+        if r.get("status") == "does not build":
+            print(f"  {r['target']} {r['form']}: does not build - {'; '.join(r['error'])}")
+        elif r["target"].startswith("8051"):
+            print(f"  {r['target']} {r['form']}: {r['ms_12MHz_12T']} ms at 12 MHz (12T), "
+                  f"~{r['us_1T_estimate_12MHz']} us 1T estimate; state {r['state_bytes']} B xdata, "
+                  f"stack {r['stack_bytes']} B internal RAM (batch SP max {r['max_sp_batch']} "
+                  f"of 0xFF)")
     print("ops model per step:", {f: chain_ops(f) for f in ("fixed", "float")})
 
     t3 = [] if a.no_8051 else [tcomp_row_mcs51(2)]
@@ -460,14 +480,16 @@ def targets(t1, t2, a):
         print("  profile of sig_tcomp16_apply_q (order 2, hw), instructions per function:")
         for p in prof:
             print(f"    {p['function']:<24} {p['instructions']:>6} instr  {p['calls']:>3} calls")
-    if c51 and not checks[-1]["met"] and ("chain", "fixed", True) in _IMAGES:
-        img, n = _IMAGES[("chain", "fixed", True)]
+    if c51 and not checks[-1]["met"] and ("chain", "fixed", "mcs51") in _IMAGES:
+        img, n = _IMAGES[("chain", "fixed", "mcs51")]
         prof = runner.profile(img, "sig_chain_step_q", n)
-        profiles["sig_chain_step_q msp430 hw"] = prof
-        print("  where a fixed chain step's work goes (MSP430 hw profile, instructions per "
-              "function; the 8051 runs the same C):")
+        profiles["sig_chain_step_q 8051"] = prof
+        print("  where a fixed chain step's 12T clocks go on the 8051 (s51 history, exclusive "
+              "per function; _mullong = sdcc's 32x32 multiply, _gptrget/_gptrput = generic-"
+              "pointer access):")
         for p in prof:
-            print(f"    {p['function']:<24} {p['instructions']:>6} instr  {p['calls']:>3} calls")
+            print(f"    {p['function']:<24} {p['clocks_12T']:>7} clk12T {p['clocks_1t_stc_y5']:>6} "
+                  f"clk1T {p['instructions']:>6} instr {p['calls']:>3} calls")
     return checks, profiles, experiment
 
 
