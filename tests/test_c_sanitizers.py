@@ -34,16 +34,37 @@ CASES = [pytest.param(src, real, san, id=f"{src.stem}-{real}-{san}", marks=gap_m
          for src in UNIT_TESTS for real in ("float", "double") for san in sorted(SANITIZERS)]
 
 
+DEFS = {"float": [], "double": ["-DSIG_REAL_DOUBLE"]}
+
+
+@pytest.fixture(scope="module")
+def core_objects(tmp_path_factory):
+    """csrc/*.c compiled once per (compiler, real, sanitizer) and linked into
+    every unit test of that build: compiling the core for each test was
+    most of this file's run time."""
+    cache = {}
+
+    def get(cc, real, sanitizer):
+        if (cc, real, sanitizer) not in cache:
+            sources = sorted(CSRC.glob("*.c"))
+            objdir = tmp_path_factory.mktemp(f"core-{real}-{sanitizer}")
+            cmd = [cc, *FLAGS, *SANITIZERS[sanitizer], *DEFS[real], "-I", str(CSRC), "-c", *map(str, sources)]
+            res = subprocess.run(cmd, capture_output=True, text=True, cwd=objdir)
+            assert res.returncode == 0, " ".join(cmd) + "\n" + res.stdout + res.stderr
+            cache[cc, real, sanitizer] = [objdir / (c.stem + ".o") for c in sources]
+        return cache[cc, real, sanitizer]
+    return get
+
+
 @pytest.mark.parametrize("src,real,sanitizer", CASES)
-def test_c_unit_under_sanitizers(src, real, sanitizer, tmp_path):
+def test_c_unit_under_sanitizers(src, real, sanitizer, tmp_path, core_objects):
     if sanitizer == "msan":
         cc = require_tool("clang-14", "clang")      # gcc has no MemorySanitizer
     else:
         cc = require_tool("gcc", "clang-14", "clang")
     exe = tmp_path / src.stem
-    defs = ["-DSIG_REAL_DOUBLE"] if real == "double" else []
-    cmd = [cc, *FLAGS, *SANITIZERS[sanitizer], *defs, "-I", str(CSRC), "-I", str(TESTS_C), str(src),
-           *map(str, sorted(CSRC.glob("*.c"))), "-lm", "-o", str(exe)]
+    cmd = [cc, *FLAGS, *SANITIZERS[sanitizer], *DEFS[real], "-I", str(CSRC), "-I", str(TESTS_C), str(src),
+           *map(str, core_objects(cc, real, sanitizer)), "-lm", "-o", str(exe)]
     res = subprocess.run(cmd, capture_output=True, text=True)
     assert res.returncode == 0, " ".join(cmd) + "\n" + res.stdout + res.stderr
     env = dict(os.environ, ASAN_OPTIONS="detect_leaks=1:abort_on_error=0",
