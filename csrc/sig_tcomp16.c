@@ -1,5 +1,6 @@
 /* sig_tcomp16.c - compact fixed-point temperature compensation (sig_tcomp16.h). */
 #include "sig_tcomp16.h"
+#include "sig_port.h"
 
 #define OFFSET16 UINT16_C(0x8000)
 #define OFFSET32 UINT32_C(0x80000000)
@@ -25,12 +26,31 @@ static bool axis_fits(int16_t top, const int32_t *add, uint8_t order, uint32_t v
     return x <= (uint32_t)INT32_MAX;
 }
 
+/* One axis of the coefficient stream: top, then the level constants in
+ * evaluation order as (low, high) words.  Offset binary (+2^15 / +2^31)
+ * everywhere except the input of the last level: top when order == 1, the
+ * constant of the last inner level (add_1) otherwise.  Order 1 also holds
+ * top * 2^15 in add_0 (its abscissa is v - 2^15, see LAST_LEVEL). */
+static void store_axis(uint16_t *p, int16_t top, const int32_t *add, uint8_t order)
+{
+    uint32_t c;
+    uint8_t k;
+    *p++ = order > 1u ? (uint16_t)((uint16_t)top ^ OFFSET16) : (uint16_t)top;
+    for (k = 0; k < order; k++) {
+        c = (uint32_t)add[k];
+        if (k + 2u != order) c += OFFSET32;
+        if (order == 1u) c += (uint32_t)sig_port_s16((uint16_t)top) << 15;
+        *p++ = (uint16_t)c;
+        *p++ = (uint16_t)(c >> 16);
+    }
+}
+
 sig_status sig_tcomp16_init(sig_tcomp16_q *m, uint8_t n_axes, uint8_t order,
                             const int16_t *top, const int32_t *add,
                             int16_t t_lo, int16_t t_hi, uint8_t w_shift)
 {
     uint32_t v_max, w_max;
-    uint8_t a, k;
+    uint8_t a;
     if (m == NULL || top == NULL || add == NULL) return SIG_ERR_ARG;
     if (n_axes < 1u || n_axes > SIG_TCOMP16_MAX_AXES) return SIG_ERR_ARG;
     if (order < SIG_TCOMP16_MIN_ORDER || order > SIG_TCOMP16_MAX_ORDER) return SIG_ERR_ARG;
@@ -40,12 +60,9 @@ sig_status sig_tcomp16_init(sig_tcomp16_q *m, uint8_t n_axes, uint8_t order,
     if (w_max > UINT32_C(0xFFFF)) return SIG_ERR_ARG;
     for (a = 0; a < n_axes; a++)
         if (!axis_fits(top[a], add + (uint16_t)a * order, order, v_max, w_max)) return SIG_ERR_ARG;
-    for (a = 0; a < SIG_TCOMP16_MAX_AXES; a++) {
-        m->top[a] = a < n_axes ? (uint16_t)((uint16_t)top[a] ^ OFFSET16) : OFFSET16;
-        for (k = 0; k < SIG_TCOMP16_MAX_ORDER; k++)
-            m->add[a][k] = (a < n_axes && k < order)
-                ? (uint32_t)add[(uint16_t)a * order + k] + OFFSET32 : OFFSET32;
-    }
+    for (a = 0; a < n_axes; a++)          /* packed stream, see sig_tcomp16_q */
+        store_axis(m->coef + (uint16_t)a * (1u + 2u * order), top[a],
+                   add + (uint16_t)a * order, order);
     m->t_lo = t_lo;
     m->t_hi = t_hi;
     m->w_shift = w_shift;
@@ -54,27 +71,20 @@ sig_status sig_tcomp16_init(sig_tcomp16_q *m, uint8_t n_axes, uint8_t order,
     return SIG_OK;
 }
 
-/* High word of U * x - 2^15 * x + add (mod 2^32) for an even x, i.e.
- * U' = h' + 2^15 for h' = floor((h * x + add) / 2^16), h = U - 2^15 (add is
- * stored + 2^31).  For even x, 2^15 * x = 2^16 * (x >> 1) only touches the
- * high word: x_half is subtracted after the shift.  Kept apart so that the
- * compiler cannot fold U * x - 2^15 * x back into a signed product (clang 14
- * turns that into a full 32x32 multiply). */
-static uint16_t level(uint16_t u, uint16_t x, uint16_t x_half, uint32_t add)
-{
-    return (uint16_t)((uint16_t)(((uint32_t)u * x + add) >> 16) - x_half);
-}
+/* One inner Horner level: U' = high word of U * w + A - w/2, with U = h + 2^15
+ * (offset binary, so the product is unsigned) and A = add_k + 2^31: since w
+ * is even, the 2^15 * w of the offset is 2^16 * (w/2), all in the high word.
+ * The last inner level stores A = add_1 without the 2^31 and so yields h_1
+ * itself (two's-complement bits) for the signed last level. */
+#define INNER_LEVEL(u, w, w_half, c) \
+    ((uint16_t)(SIG_MULADD_HI_U16((u), (w), (c)) - (w_half)))
 
-/* level() for x = v, which may be odd: the high word of P - 2^15 v with
- * P = U * v + add and 2^15 v = 2^16 (v >> 1) + v_odd, i.e. hi(P) - (v >> 1)
- * less the borrow of lo(P) - v_odd. */
-static uint16_t last_level(uint16_t u, uint16_t v, uint16_t v_odd, uint32_t add)
-{
-    uint32_t p = (uint32_t)u * v + add;
-    uint16_t r = (uint16_t)((uint16_t)(p >> 16) - (uint16_t)(v >> 1));
-    if ((uint16_t)p < v_odd) r--;
-    return r;
-}
+/* The last level: u = corr + 2^15 = high word of h * x + A_0, a signed 16x16
+ * product.  order >= 2: x = v (<= 32767: w = v * 2^w_shift <= 65535 with
+ * w_shift >= 1), h = h_1, A_0 = add_0 + 2^31.  order 1 (v up to 65535):
+ * x = v - 2^15 (int16), h = top, and init stored A_0 = add_0 + 2^31 +
+ * top * 2^15 (mod 2^32). */
+#define LAST_LEVEL(h, x, c) SIG_MULADD_HI_S16((h), (x), (c))
 
 /* in - corr for in and corr + 2^15 = u, saturated: the difference of two
  * offset values, in 16 bits (an int32 difference costs twice the code on a
@@ -98,24 +108,26 @@ static int16_t subtract_sat(int16_t in, uint16_t u, sig_status *st)
 sig_status sig_tcomp16_apply_q(const sig_tcomp16_q *m, int16_t t, const int16_t *in, int16_t *out)
 {
     sig_status st = SIG_OK;
-    uint16_t v, w, u, v_odd;
-    const uint32_t *c;
-    const uint16_t *top;
-    uint8_t a, k;
+    const uint16_t *p;
+    uint16_t v, w, w_half, x, u;
+    const int16_t *in_end;
+    uint16_t k, n_inner;
     if (m == NULL || in == NULL || out == NULL) return SIG_ERR_ARG;
     if (t < m->t_lo) { t = m->t_lo; st = SIG_WARN_CLAMPED; }
     else if (t > m->t_hi) { t = m->t_hi; st = SIG_WARN_CLAMPED; }
     v = (uint16_t)((uint16_t)t - (uint16_t)m->t_lo);        /* 0 .. t_hi - t_lo, exact */
     w = (uint16_t)(v << m->w_shift);                        /* init: fits, and even when used */
-    v_odd = (uint16_t)((uint16_t)(0u - (v & 1u)) & 0x8000u);   /* 2^15 (v & 1), no shift loop */
-    c = &m->add[0][0];
-    top = m->top;
-    for (a = m->n_axes; a > 0u; a--) {
-        u = *top++;
-        for (k = m->order; k > 1u; k--)                     /* w even: no odd part */
-            u = level(u, w, (uint16_t)(w >> 1), *c++);
-        u = last_level(u, v, v_odd, *c);                    /* corr + 2^15 */
-        c += SIG_TCOMP16_MAX_ORDER + 1u - m->order;
+    w_half = (uint16_t)(w >> 1);
+    x = m->order > 1u ? v : (uint16_t)(v ^ 0x8000u);       /* int16 bits */
+    p = m->coef;
+    n_inner = (uint16_t)(m->order - 1u);
+    in_end = in + m->n_axes;
+    while (in != in_end) {
+        u = *p++;
+        for (k = n_inner; k != 0u; k--, p += 2)
+            u = INNER_LEVEL(u, w, w_half, p);
+        u = LAST_LEVEL(u, x, p);                            /* corr + 2^15 */
+        p += 2;
         *out++ = subtract_sat(*in++, u, &st);
     }
     return st;

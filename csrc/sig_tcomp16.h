@@ -27,11 +27,20 @@
  *   levels (|h[k]| <= 32767, |h*w + add| < 2^31) holds for every v in
  *   range; the hot path then needs no saturation test.  pysig.quant
  *   (quantize_compact) chooses the coefficients under the same test.
- *   How the products stay unsigned: the code carries U = h + 2^15 (uint16,
- *   the high word of (x + 2^31), no sign handling) and multiplies U * w;
- *   U * w = h * w + 2^15 * w, and the 2^15 * w term, the same for every
- *   axis, is subtracted once per call (mod 2^32, all unsigned).
- *   Cost of one call: order * n_axes products of 16x16 bits (order 2,
+ *   How the products are formed: every level is the high word of a 32-bit
+ *   multiply-accumulate, acc + a * b (mod 2^32), the operation of a 16x16
+ *   hardware multiplier (sig_port.h: SIG_MULADD_HI_U16 / _S16, plain C by
+ *   default, a firmware may map them onto its MAC).  Inner levels carry
+ *   U = h + 2^15 (offset binary) and form the UNSIGNED product U * w =
+ *   h * w + 2^15 * w; w is even, so the 2^15 * w term is w/2 in the high
+ *   word, subtracted after (one 16-bit subtract).  The last inner level
+ *   (constant stored without the 2^31 offset) hands the last level h_1
+ *   itself, and the last level is a SIGNED 16x16 product h_1 * v (v <=
+ *   32767 whenever order >= 2; plain C for the one case beyond: order 1
+ *   over more than 327.67 °C).  Its constant carries + 2^31, so its high
+ *   word is corr + 2^15, the operand of the offset-binary saturating
+ *   subtract.
+ *   Cost of one call: order * n_axes 16x16 multiply-accumulates (order 2,
  *   3 axes: 6), one variable 16-bit shift (w), no division.
  *
  * Compared with sig_tcomp_q (int32 coefficients, Q15 abscissa, any slope):
@@ -50,10 +59,11 @@
 #define SIG_TCOMP16_MAX_ORDER 5u
 
 typedef struct {
-    /* per axis, in evaluation order: add_(order-1) .. add_1, add_0, each
-     * stored + 2^31 (mod 2^32: offset binary, see the header comment) */
-    uint32_t add[SIG_TCOMP16_MAX_AXES][SIG_TCOMP16_MAX_ORDER];
-    uint16_t top[SIG_TCOMP16_MAX_AXES];   /* top + 2^15 (offset binary) */
+    /* per axis, packed (axis a from coef[a * (1 + 2 * order)]): top, then
+     * add_(order-1) .. add_0 as (low, high) uint16 words.  Offset binary
+     * (top + 2^15, add + 2^31, mod 2^16 / 2^32) except the input of the last
+     * level, which is signed: top when order == 1, add_1 otherwise. */
+    uint16_t coef[SIG_TCOMP16_MAX_AXES * (1u + 2u * SIG_TCOMP16_MAX_ORDER)];
     int16_t t_lo, t_hi;                   /* calibrated range, 0.01 °C, t_lo < t_hi */
     uint8_t w_shift;                      /* (t_hi - t_lo) << w_shift <= 65535 */
     uint8_t order;                        /* 1..5 */

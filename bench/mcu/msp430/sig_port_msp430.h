@@ -1,0 +1,62 @@
+/* sig_port_msp430.h - csrc/sig_port.h hooks on the MSP430's 16x16 hardware
+ * multiplier, as plain C volatile accesses (no assembly).  A firmware build
+ * selects it with
+ *     -DSIG_PORT_HEADER='"sig_port_msp430.h"' -I bench/mcu/msp430
+ * (bench/mcu_cost.py: the fixed16_inline rows; the fixed16 rows leave it out
+ * and clang calls __mspabi_mpyl_f5hw of rt_hwmul.c instead).
+ *
+ * MPY_BASE: 0x04C0 on the MSP430F5510 (MPY32 module, the same 16x16
+ * registers at the same offsets); mspdebug 0.22's simulated multiplier is at
+ * 0x0130: build with -DMPY_BASE=0x0130 for the simulator (same instructions,
+ * same cycles).  A build for 0x04C0 run in that simulator reads RAM instead
+ * of results: the bench checks every output against the host C.
+ *
+ * One multiply-accumulate: preload the 32-bit result (RESLO, RESHI) with the
+ * constant's two words,
+ * write operand 1 to MAC (unsigned) or MACS (signed), write OP2 (starts the
+ * operation), read RESHI.  The multiplier does the 32-bit add and its carry;
+ * the low result word is never read.
+ *
+ * Interrupts: like TI's multiplier routines used without interrupt
+ * protection, these hooks assume that no interrupt handler uses the
+ * multiplier between the preload and the read - or that every handler that
+ * does saves and restores MPY/MAC operand, RESLO, RESHI and SUMEXT.  If that
+ * does not hold, call the compensation with interrupts disabled. */
+#ifndef SIG_PORT_MSP430_H
+#define SIG_PORT_MSP430_H
+
+#include <stdint.h>
+
+#ifndef MPY_BASE
+#define MPY_BASE 0x04C0
+#endif
+#define SIG_MSP430_MPY_REG(off) (*(volatile uint16_t *)(MPY_BASE + (off)))
+#define SIG_MSP430_MAC   SIG_MSP430_MPY_REG(0x4)   /* operand 1, unsigned multiply-accumulate */
+#define SIG_MSP430_MACS  SIG_MSP430_MPY_REG(0x6)   /* operand 1, signed multiply-accumulate */
+#define SIG_MSP430_OP2   SIG_MSP430_MPY_REG(0x8)   /* operand 2: writing it starts the operation */
+#define SIG_MSP430_RESLO SIG_MSP430_MPY_REG(0xA)
+#define SIG_MSP430_RESHI SIG_MSP430_MPY_REG(0xC)
+
+static inline uint16_t sig_msp430_muladd_hi_u16(uint16_t a, uint16_t b, const uint16_t *c)
+{
+    SIG_MSP430_RESLO = c[0];
+    SIG_MSP430_RESHI = c[1];
+    SIG_MSP430_MAC = a;
+    SIG_MSP430_OP2 = b;
+    return SIG_MSP430_RESHI;
+}
+
+/* a, b: two's-complement int16 bits */
+static inline uint16_t sig_msp430_muladd_hi_s16(uint16_t a, uint16_t b, const uint16_t *c)
+{
+    SIG_MSP430_RESLO = c[0];
+    SIG_MSP430_RESHI = c[1];
+    SIG_MSP430_MACS = a;
+    SIG_MSP430_OP2 = b;
+    return SIG_MSP430_RESHI;
+}
+
+#define SIG_MULADD_HI_U16(a, b, c) sig_msp430_muladd_hi_u16((a), (b), (c))
+#define SIG_MULADD_HI_S16(a, b, c) sig_msp430_muladd_hi_s16((a), (b), (c))
+
+#endif /* SIG_PORT_MSP430_H */
