@@ -4,7 +4,10 @@
 
 Table 1 (the paper's Table 2): temperature compensation of 3 axes
 (sig_tcomp_apply_q / _f) per polynomial order, fixed and float, and the
-compact fixed form (sig_tcomp16_apply_q, form "fixed16"), on the
+compact fixed form (sig_tcomp16_apply_q): "fixed16" as portable C (clang
+calls the multiply helper per product) and "fixed16_inline" with the
+csrc/sig_port.h hooks mapped onto the multiplier's MAC/MACS by
+bench/mcu/msp430/sig_port_msp430.h (plain C volatile accesses), on the
 MSP430F5510 at 8 MHz: .text bytes of the compensation code, RAM (model +
 stack high-water), cycles per call, time, energy per call at 1.56 mA and VDD.
 Table 2: one weighing-chain step (sig_chain_step_q / _f) on the MSP430 and
@@ -36,6 +39,8 @@ CSRC = runner.CSRC
 HARNESS = ROOT / "bench" / "mcu" / "harness"
 TCOMP_SRC = runner.csrc_sources("sig_tcomp")     # + sig_poly, sig_image, sig_crc16
 TCOMP16_SRC = runner.csrc_sources("sig_tcomp16")  # the compact form (int16 multiplicands)
+PORT_MSP430 = ROOT / "bench" / "mcu" / "msp430"   # sig_port_msp430.h: the fixed16_inline build
+INLINE_DEFINES = {"SIG_PORT_HEADER": '"sig_port_msp430.h"', "MPY_BASE": runner.MSP430_MPY_BASE_SIM}
 CHAIN_SRC = runner.csrc_sources("sig_chain")     # + limit, antipulse, kalman1, stable, ...
 MCLK_HZ = 8_000_000          # MSP430F5510 as in the paper
 I_ACTIVE_A = 1.56e-3         # active current at 8 MHz (the paper's figure)
@@ -55,14 +60,20 @@ def tcomp_ops(form: str, order: int, axes: int = AXES) -> dict:
     products, a 32-bit add with saturation test), then a rounding shift by q
     and a saturating subtract.  float: u = (T-c)*k; per axis `order` fmul +
     fadd, finiteness tests (x - x == 0) on u, acc and every input."""
-    if form == "fixed16":
+    if form in ("fixed16", "fixed16_inline"):
         # sig_tcomp16_apply_q: v = t - t_lo, w = v << s (one shift loop); per
-        # axis and level one unsigned 16x16 product (helper call), a 32-bit
-        # add of the level constant, a 16-bit subtract (the offset), and the
-        # borrow test of the last level; a 16-bit saturating subtract.
-        return {"mul16x16": order * axes, "add32": order * axes, "sub16": order * axes + axes,
-                "shift16_loop": 1, "compare": 4 + 2 * axes, "load16": 2 + axes * (2 * order + 2),
-                "store16": axes}
+        # axis and level the high word of constant + 16x16 product (unsigned
+        # for the inner levels, signed for the last), a 16-bit subtract of
+        # w/2 per inner level, a 16-bit saturating subtract per axis.
+        # fixed16: the product is a helper call and the 32-bit add is C;
+        # fixed16_inline: one MAC/MACS with the constant preloaded = 5
+        # multiplier-register accesses (RESLO, RESHI, MAC(S), OP2 written;
+        # RESHI read) and no 32-bit add in software.
+        ops = {"sub16": (order - 1) * axes + axes, "shift16_loop": 1, "compare": 4 + 2 * axes,
+               "load16": 5 + axes * (2 * order + 2), "store16": axes}
+        if form == "fixed16":
+            return {"mul16x16": order * axes, "add32": order * axes, **ops}
+        return {"mac16x16": order * axes, "mpy_reg_access": 5 * order * axes, **ops}
     if form == "fixed":
         return {"mul16x16": 1 + 2 * order * axes,
                 "add32": 2 + axes * (2 * order + 3),
@@ -142,17 +153,22 @@ def tcomp_row(order: int, form: str, hwmult: bool, vdd: float) -> dict:
             "ops": tcomp_ops(form, order), "checked_vectors": n}
 
 
-def tcomp16_row(order: int, hwmult: bool, vdd: float) -> dict:
+def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False) -> dict:
     """The compact form (csrc/sig_tcomp16.c) on the same temperatures and
     readings as tcomp_row, the same polynomial quantised by
     pysig.quant.quantize_compact (bench/mcu/tcomp16_vectors.py), checked
-    against the host C before the row is returned."""
+    against the host C before the row is returned.  inline: the same C with
+    the sig_port.h hooks of bench/mcu/msp430/sig_port_msp430.h (multiplier
+    MAC/MACS as volatile accesses, hw only)."""
     case = tcomp16_vectors.tcomp16_case(order)
     gen = runner.BUILD_DIR / "gen" / f"tcomp16-o{order}"
     tcomp16_vectors.write_tcomp16_header(case, gen / "tcomp16_vectors.h")
     func = "sig_tcomp16_apply_q"
-    img = runner.build_msp430(TCOMP16_SRC, HARNESS / "tcomp16_harness.c", [], hwmult=hwmult,
-                              include_dirs=[gen], name=f"tcomp16-o{order}")
+    form = "fixed16_inline" if inline else "fixed16"
+    img = runner.build_msp430(TCOMP16_SRC, HARNESS / "tcomp16_harness.c",
+                              INLINE_DEFINES if inline else [], hwmult=hwmult,
+                              include_dirs=[gen, PORT_MSP430] if inline else [gen],
+                              name=f"tcomp16-o{order}" + ("-inline" if inline else ""))
     n, a = case.base.in_q.shape
     r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
                        reads={"vec_out": 2 * n * a, "vec_status": 2 * n})
@@ -160,14 +176,18 @@ def tcomp16_row(order: int, hwmult: bool, vdd: float) -> dict:
     h_out, h_st = Tcomp16Q.from_compact(case.compact).apply(case.base.t_q, case.base.in_q)
     if not (np.array_equal(_i16(r["reads"]["vec_out"]).reshape(n, a), h_out)
             and np.array_equal(_i16(r["reads"]["vec_status"]), h_st)):
-        raise SystemExit(f"tcomp16 order {order}: firmware results differ from the host C")
-    _IMAGES[("tcomp16", order, hwmult)] = (img, r["funcs"][func]["instructions"])
+        raise SystemExit(f"tcomp16 order {order} {form}: firmware results differ from the host C")
+    _IMAGES[(form, order, hwmult)] = (img, r["funcs"][func]["instructions"])
     clos = runner.code_closure(img, func)
+    if inline and any(runner.is_helper(k) for k in clos):
+        raise SystemExit(f"tcomp16 order {order} {form}: the port hooks did not take effect ({clos})")
     one = r["funcs"][func]
     model_bytes = runner.symbol_size(img, "model")
     t_us = one["cycles"] / MCLK_HZ * 1e6
-    return {"target": "msp430f5510", "form": "fixed16", "order": order,
-            "multiplier": "hw (16x16 MPY at 0x0130 in the simulator)" if hwmult else "none",
+    return {"target": "msp430f5510", "form": form, "order": order,
+            "multiplier": ("hw inline MAC/MACS (sig_port_msp430.h, 16x16 MPY at 0x0130 in the "
+                           "simulator)" if inline else
+                           "hw (16x16 MPY at 0x0130 in the simulator)" if hwmult else "none"),
             "text_bytes": sum(v for k, v in clos.items() if not runner.is_helper(k)),
             "helper_bytes": sum(v for k, v in clos.items() if runner.is_helper(k)),
             "ram_bytes": model_bytes + one["stack_bytes"], "model_bytes": model_bytes,
@@ -175,7 +195,7 @@ def tcomp16_row(order: int, hwmult: bool, vdd: float) -> dict:
             "cycles": one["cycles"], "instructions": one["instructions"],
             "cycles_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
             "time_us": round(t_us, 2), "energy_uj": round(I_ACTIVE_A * vdd * t_us, 4),
-            "ops": tcomp_ops("fixed16", order), "checked_vectors": n,
+            "ops": tcomp_ops(form, order), "checked_vectors": n,
             "drift_amplitude_lsb": round(case.amplitude, 1),
             "compact_error_lsb": round(max(case.compact.error_lsb), 4)}
 
@@ -360,10 +380,12 @@ def main(argv=None):
 
     t1, t2, t3 = [], [], []
     for hw in (True, False) if a.table in ("1", "all") else ():
-        for form in ("fixed", "fixed16", "float"):
+        for form in ("fixed", "fixed16", "fixed16_inline", "float"):
+            if form == "fixed16_inline" and not hw:
+                continue                    # the hooks are the multiplier's
             for order in _orders(a.orders):
-                t1.append(tcomp16_row(order, hw, a.vdd) if form == "fixed16"
-                          else tcomp_row(order, form, hw, a.vdd))
+                t1.append(tcomp16_row(order, hw, a.vdd, inline=form == "fixed16_inline")
+                          if form.startswith("fixed16") else tcomp_row(order, form, hw, a.vdd))
     if t1:
         print_table1(t1, a)
     if a.table in ("2", "all"):
@@ -391,12 +413,15 @@ def print_table1(t1, a):
             "drift_amplitude_lsb"]
     print(_table([dict(r, multiplier="hw" if r["multiplier"] != "none" else "none") for r in t1], cols))
     print("fixed = sig_tcomp (int32 coefficients, Q15 abscissa); fixed16 = sig_tcomp16 (int16 "
-          "multiplicands, unsigned 16x16 products; compact_error_lsb: its measured quantisation "
-          "error over every 0.01 degC of the range, on top of the 0.5 LSB output rounding)")
-    print("ops model per call (fixed | fixed16 | float):")
+          "multiplicands, 16x16 multiply-accumulates; compact_error_lsb: its measured quantisation "
+          "error over every 0.01 degC of the range, on top of the 0.5 LSB output rounding); "
+          "fixed16_inline = the same C with the csrc/sig_port.h hooks of "
+          "bench/mcu/msp430/sig_port_msp430.h (MAC/MACS on the multiplier, no helper calls; "
+          "assumes no ISR uses the multiplier)")
+    print("ops model per call (fixed | fixed16 | fixed16_inline | float):")
     for order in _orders(a.orders):
         print(f"  order {order}: {tcomp_ops('fixed', order)} | {tcomp_ops('fixed16', order)} | "
-              f"{tcomp_ops('float', order)}")
+              f"{tcomp_ops('fixed16_inline', order)} | {tcomp_ops('float', order)}")
 
 
 
@@ -445,6 +470,13 @@ def targets(t1, t2, a):
         checks.append({"target": "float/fixed16 cycles >= 10x (order 2, hw)",
                        "measured": round(f2["cycles"] / c2["cycles"], 2),
                        "met": f2["cycles"] >= 10 * c2["cycles"]})
+        i2 = pick("fixed16_inline", 2)
+        checks.append({"target": "fixed16_inline (compact, port hooks) order-2, 3 axes, MSP430 hw "
+                                 "<= 300 cycles",
+                       "measured": i2["cycles"], "met": i2["cycles"] <= 300})
+        checks.append({"target": "float/fixed16_inline cycles >= 10x (order 2, hw)",
+                       "measured": round(f2["cycles"] / i2["cycles"], 2),
+                       "met": f2["cycles"] >= 10 * i2["cycles"]})
     c51 = next((r for r in t2 if r["target"].startswith("8051") and r["form"] == "fixed"), None)
     if c51:
         checks.append({"target": "fixed chain step on the 8051 <= 3000 12T clocks",
@@ -473,13 +505,22 @@ def targets(t1, t2, a):
         print("  ... by source line (csrc/ as built; inlined code at its own line):")
         for p in lines[:12]:
             print(f"    {p['line']:<24} {p['instructions']:>6} instr")
-    if t1 and 2 in _orders(a.orders) and not checks[2]["met"] and ("tcomp16", 2, True) in _IMAGES:
-        img, n = _IMAGES[("tcomp16", 2, True)]
+    if t1 and 2 in _orders(a.orders) and not checks[2]["met"] and ("fixed16", 2, True) in _IMAGES:
+        img, n = _IMAGES[("fixed16", 2, True)]
         prof = runner.profile(img, "sig_tcomp16_apply_q", n)
         profiles["sig_tcomp16_apply_q order 2 hw"] = prof
         print("  profile of sig_tcomp16_apply_q (order 2, hw), instructions per function:")
         for p in prof:
             print(f"    {p['function']:<24} {p['instructions']:>6} instr  {p['calls']:>3} calls")
+    if t1 and 2 in _orders(a.orders) and not checks[4]["met"] \
+            and ("fixed16_inline", 2, True) in _IMAGES:
+        img, n = _IMAGES[("fixed16_inline", 2, True)]
+        lines = runner.profile_lines(img, "sig_tcomp16_apply_q", n)
+        profiles["sig_tcomp16_apply_q order 2 hw inline, by source line"] = lines
+        print("  profile of sig_tcomp16_apply_q (order 2, inline hooks), instructions by source "
+              "line (hooks inlined at their own lines):")
+        for p in lines[:12]:
+            print(f"    {p['line']:<28} {p['instructions']:>6} instr")
     if c51 and not checks[-1]["met"] and ("chain", "fixed", "mcs51") in _IMAGES:
         img, n = _IMAGES[("chain", "fixed", "mcs51")]
         prof = runner.profile(img, "sig_chain_step_q", n)

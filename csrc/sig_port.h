@@ -49,8 +49,17 @@ static inline uint32_t sig_port_u32(const uint16_t *c)
 #endif
 
 #ifndef SIG_MULADD_HI_S16
-#define SIG_MULADD_HI_S16(a, b, c) \
-    ((uint16_t)((sig_port_u32(c) + (uint32_t)(sig_port_s16(a) * sig_port_s16(b))) >> 16))
+/* as the unsigned product of the bit patterns: s(a) * s(b) = a * b - 2^16 *
+ * (a < 0 ? b : 0) - 2^16 * (b < 0 ? a : 0) (mod 2^32), and the corrections
+ * only touch the high word (an int32 product would call a 32x32 multiply) */
+static inline uint16_t sig_port_muladd_hi_s16(uint16_t a, uint16_t b, const uint16_t *c)
+{
+    uint16_t hi = SIG_MULADD_HI_U16(a, b, c);
+    if (a & 0x8000u) hi = (uint16_t)(hi - b);
+    if (b & 0x8000u) hi = (uint16_t)(hi - a);
+    return hi;
+}
+#define SIG_MULADD_HI_S16(a, b, c) sig_port_muladd_hi_s16((a), (b), (c))
 #endif
 
 #endif /* SIG_PORT_H */

@@ -113,9 +113,9 @@ sig_status sig_tcomp16_apply_q(const sig_tcomp16_q *m, int16_t t, const int16_t 
     const int16_t *in_end;
     uint16_t k, n_inner;
     if (m == NULL || in == NULL || out == NULL) return SIG_ERR_ARG;
-    if (t < m->t_lo) { t = m->t_lo; st = SIG_WARN_CLAMPED; }
-    else if (t > m->t_hi) { t = m->t_hi; st = SIG_WARN_CLAMPED; }
     v = (uint16_t)((uint16_t)t - (uint16_t)m->t_lo);        /* 0 .. t_hi - t_lo, exact */
+    if (t < m->t_lo) { v = 0; st = SIG_WARN_CLAMPED; }
+    else if (t > m->t_hi) { v = (uint16_t)((uint16_t)m->t_hi - (uint16_t)m->t_lo); st = SIG_WARN_CLAMPED; }
     w = (uint16_t)(v << m->w_shift);                        /* init: fits, and even when used */
     w_half = (uint16_t)(w >> 1);
     x = m->order > 1u ? v : (uint16_t)(v ^ 0x8000u);       /* int16 bits */
