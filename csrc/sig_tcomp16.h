@@ -36,10 +36,10 @@
  *   word, subtracted after (one 16-bit subtract).  The last inner level
  *   (constant stored without the 2^31 offset) hands the last level h_1
  *   itself, and the last level is a SIGNED 16x16 product h_1 * v (v <=
- *   32767 whenever order >= 2; plain C for the one case beyond: order 1
- *   over more than 327.67 °C).  Its constant carries + 2^31, so its high
- *   word is corr + 2^15, the operand of the offset-binary saturating
- *   subtract.
+ *   32767 whenever order >= 2).  Order 1 (v up to 65535) multiplies top
+ *   by v - 2^15 instead; init folds top * 2^15 into its constant.  The
+ *   last constant carries + 2^31, so its high word is corr + 2^15, the
+ *   operand of the offset-binary saturating subtract.
  *   Cost of one call: order * n_axes 16x16 multiply-accumulates (order 2,
  *   3 axes: 6), one variable 16-bit shift (w), no division.
  *

@@ -17,11 +17,12 @@
  * operation), read RESHI.  The multiplier does the 32-bit add and its carry;
  * the low result word is never read.
  *
- * Interrupts: like TI's multiplier routines used without interrupt
- * protection, these hooks assume that no interrupt handler uses the
- * multiplier between the preload and the read - or that every handler that
- * does saves and restores MPY/MAC operand, RESLO, RESHI and SUMEXT.  If that
- * does not hold, call the compensation with interrupts disabled. */
+ * Interrupts: as any code that drives the memory-mapped multiplier without
+ * disabling interrupts (rt_hwmul.c's helpers too), these hooks assume that no
+ * interrupt handler uses the multiplier between the preload and the read -
+ * or that every handler that does saves and restores its operand registers,
+ * RESLO, RESHI and SUMEXT.  If that does not hold, call the compensation
+ * with interrupts disabled (one call: 272-644 cycles, orders 1-5, 3 axes). */
 #ifndef SIG_PORT_MSP430_H
 #define SIG_PORT_MSP430_H
 
