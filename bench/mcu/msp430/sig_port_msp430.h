@@ -19,10 +19,11 @@
  *
  * Interrupts: as any code that drives the memory-mapped multiplier without
  * disabling interrupts (rt_hwmul.c's helpers too), these hooks assume that no
- * interrupt handler uses the multiplier between the preload and the read -
- * or that every handler that does saves and restores its operand registers,
- * RESLO, RESHI and SUMEXT.  If that does not hold, call the compensation
- * with interrupts disabled (one call: 272-644 cycles, orders 1-5, 3 axes). */
+ * interrupt handler uses the multiplier while a compensation call runs.
+ * Saving RESLO/RESHI/SUMEXT in a handler is not enough on the classic 16x16
+ * multiplier: the operation selected by the operand-1 address (MAC, MACS)
+ * cannot be read back.  If handlers multiply, call the compensation with
+ * interrupts disabled (one call: 272-644 cycles, orders 1-5, 3 axes). */
 #ifndef SIG_PORT_MSP430_H
 #define SIG_PORT_MSP430_H
 
