@@ -486,7 +486,7 @@ def targets(t1, t2, a):
     for c in checks:
         print(f"  {'MET ' if c['met'] else 'MISS'} {c['target']}: {c['measured']}")
     profiles, experiment = {}, None
-    if checks and not checks[0]["met"]:
+    if t1 and checks and not checks[0]["met"]:
         experiment = tcomp_fast_row(2, a.vdd)
         print(f"  what it would take - bench/mcu/experiments/tcomp_fast.c (bit-exact, inline "
               f"multiplier, word-wise shifts): {experiment['cycles']} cycles, "
