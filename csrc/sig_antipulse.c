@@ -1,5 +1,6 @@
 /* sig_antipulse.c - drop-max-and-min window mean; see sig_antipulse.h. */
 #include "sig_antipulse.h"
+#include "sig_mul_wide.h"
 
 /* Exact 32-bit helpers of the fixed form: no int64, no division (a 32x32
  * product from four 16x16 products).  Plain static functions, not inline
@@ -16,32 +17,11 @@ static const uint32_t recip_table[31] = {
     143165576u
 };
 
-/* The full product a * b = hi * 2^32 + lo from four 16x16 products, with
- * few temporaries. */
-static uint32_t mul_wide(uint32_t a, uint32_t b, uint32_t *lo_out)
-{
-    /* 16-bit halves first: sdcc 4.2 --stack-auto miscompiles (a >> 16) * x
-     * of a stack parameter (the high byte of a >> 16 came out as byte 2) */
-    uint16_t a0 = (uint16_t)a, a1 = (uint16_t)(a >> 16);
-    uint16_t b0 = (uint16_t)b, b1 = (uint16_t)(b >> 16);
-    uint32_t lo = (uint32_t)a0 * b0;
-    uint32_t mid = (uint32_t)a1 * b0;
-    uint32_t t = (uint32_t)a0 * b1;
-    uint32_t hi = (uint32_t)a1 * b1;
-    mid += t;                                      /* the two middle products, weight 2^16 */
-    if (mid < t) hi += UINT32_C(0x10000);          /* their carry has weight 2^48 */
-    t = mid << 16;
-    lo += t;
-    if (lo < t) hi++;
-    *lo_out = lo;
-    return hi + (mid >> 16);
-}
-
 /* round-half-up(s / d) = floor((s + floor(d/2)) / d) for |s| < 2^30 and
  * 1 <= d <= 30, exact (Python: (s + d // 2) // d), without dividing:
  * q0 = floor(u * floor((2^32-1)/d) / 2^32), the high word of the product, is
  * floor(u / d) or one less (since u < 2^32), so one correction makes it
- * exact.  One function calling mul_wide directly: on the 8051 the chain's
+ * exact.  One function calling sig_mul_wide directly: on the 8051 the chain's
  * call depth is limited by the --stack-auto stack in internal RAM. */
 static int32_t div_round_small(int32_t s, uint8_t d)
 {
@@ -51,7 +31,7 @@ static int32_t div_round_small(int32_t s, uint8_t d)
     t = s + (int32_t)(d >> 1);
     /* floor(t / d) = -floor((-t + d - 1) / d) for t < 0 */
     u = t >= 0 ? (uint32_t)t : (uint32_t)(-t) + (uint32_t)d - 1u;
-    q = mul_wide(u, recip_table[d], &lo);
+    q = sig_mul_wide(u, recip_table[d], &lo);
     if (u - q * (uint32_t)d >= (uint32_t)d) q++;
     return t >= 0 ? (int32_t)q : -(int32_t)q;
 }

@@ -1,5 +1,6 @@
 /* sig_kalman1.c - scalar Kalman filter, float and fixed; see sig_kalman1.h. */
 #include "sig_kalman1.h"
+#include "sig_mul_wide.h"
 
 #define SIG_Q30_ONE UINT32_C(1073741824)
 
@@ -7,33 +8,12 @@
  * product from four 16x16 products).  Plain static functions, not inline
  * header helpers: sdcc emits every static inline function of a header in each
  * file that includes it, each with its own spill area in the 8051's RAM. */
-/* The full product a * b = hi * 2^32 + lo from four 16x16 products, with
- * few temporaries. */
-static uint32_t mul_wide(uint32_t a, uint32_t b, uint32_t *lo_out)
-{
-    /* 16-bit halves first: sdcc 4.2 --stack-auto miscompiles (a >> 16) * x
-     * of a stack parameter (the high byte of a >> 16 came out as byte 2) */
-    uint16_t a0 = (uint16_t)a, a1 = (uint16_t)(a >> 16);
-    uint16_t b0 = (uint16_t)b, b1 = (uint16_t)(b >> 16);
-    uint32_t lo = (uint32_t)a0 * b0;
-    uint32_t mid = (uint32_t)a1 * b0;
-    uint32_t t = (uint32_t)a0 * b1;
-    uint32_t hi = (uint32_t)a1 * b1;
-    mid += t;                                      /* the two middle products, weight 2^16 */
-    if (mid < t) hi += UINT32_C(0x10000);          /* their carry has weight 2^48 */
-    t = mid << 16;
-    lo += t;
-    if (lo < t) hi++;
-    *lo_out = lo;
-    return hi + (mid >> 16);
-}
-
 /* floor((a * b + 2^29) / 2^30): a Q30 product rounded half up; the caller
  * guarantees the result fits in 32 bits (a * b < 2^62 - 2^29). */
 static uint32_t mul_q30(uint32_t a, uint32_t b)
 {
     uint32_t lo;
-    uint32_t hi = mul_wide(a, b, &lo);
+    uint32_t hi = sig_mul_wide(a, b, &lo);
     lo += UINT32_C(0x20000000);                    /* + 2^29: round half up */
     if (lo < UINT32_C(0x20000000)) hi++;
     return (hi << 2) | (lo >> 30);

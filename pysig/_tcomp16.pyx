@@ -6,6 +6,7 @@ import numpy as np
 cimport numpy as cnp
 from libc.stdint cimport int16_t, int32_t, uint8_t, uint16_t, uint32_t
 
+from ._tcomp import _int16          # the same int16 check as the int32 form
 from .errors import RangeError
 
 cnp.import_array()
@@ -90,11 +91,3 @@ cdef class Tcomp16Q:
                 st[i] = sig_tcomp16_apply_q(&self.m, t[i], &x[i, 0], &out[i, 0])
         return out, st
 
-
-def _int16(values, what):
-    arr = np.asarray(values)
-    flat = np.ravel(arr)
-    if flat.size and (not np.all(np.isfinite(flat.astype(float))) or np.any(flat != np.round(flat))
-                      or flat.min() < -32768 or flat.max() > 32767):
-        raise RangeError(f"{what}: values must be integers within int16")
-    return np.ascontiguousarray(flat, dtype=np.int16)
