@@ -40,3 +40,9 @@ class ModelFileError(PysigError, ValueError):
 class RangeError(PysigError, ValueError):
     """A parameter or temperature outside the range it is valid for."""
     exit_status = 7
+
+
+class OutputFileError(PysigError, OSError):
+    """An output file cannot be written (missing directory, no permission,
+    a directory in the way); nothing is left behind."""
+    exit_status = 8

@@ -12,7 +12,7 @@ from contextlib import contextmanager
 
 import numpy as np
 
-from .errors import InputFileError, NonFiniteError
+from .errors import InputFileError, NonFiniteError, OutputFileError
 
 
 def read_csv(path, columns=None, allow_nonfinite=False):
@@ -81,12 +81,18 @@ def atomic_output(path, mode="w", **kwargs):
     """Open a temporary file beside `path`; rename it over `path` only when
     the block finishes without an exception."""
     directory = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".pysig-", dir=directory)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".pysig-", dir=directory)
+    except OSError as exc:
+        raise OutputFileError(f"{path}: cannot write: {exc.strerror}") from exc
     try:
         with os.fdopen(fd, mode, **kwargs) as fh:
             yield fh
         os.chmod(tmp, 0o666 & ~_umask())        # mkstemp makes 0600; give what open() would
-        os.replace(tmp, path)
+        try:
+            os.replace(tmp, path)
+        except OSError as exc:
+            raise OutputFileError(f"{path}: cannot write: {exc.strerror}") from exc
     except BaseException:
         if os.path.exists(tmp):
             os.unlink(tmp)

@@ -27,10 +27,10 @@ from conftest import ROOT
 from pysig import errors
 from pysig.cli import main
 from pysig.errors import (InputFileError, InsufficientDataError, ModelFileError, NonFiniteError,
-                          PysigError, RangeError, SaturationError)
+                          OutputFileError, PysigError, RangeError, SaturationError)
 
 ERROR_CLASSES = [InputFileError, NonFiniteError, InsufficientDataError, SaturationError,
-                 ModelFileError, RangeError]
+                 ModelFileError, RangeError, OutputFileError]
 SENTINEL = "previous output, must survive a failed run\n"
 HYPO = settings(max_examples=150, deadline=None,
                 suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])

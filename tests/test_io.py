@@ -101,3 +101,27 @@ def test_cli_imports_only_the_requested_command():
             "print('statsmodels' in sys.modules, 'pysig.commands.filter' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.split() == ["False", "True"]
+
+
+def test_unwritable_output_is_a_named_error_and_leaves_nothing(tmp_path):
+    from pysig.errors import OutputFileError
+    with pytest.raises(OutputFileError, match="nodir.*cannot write"):
+        with atomic_output(tmp_path / "nodir" / "a.csv") as fh:
+            fh.write("x")
+    (tmp_path / "adir").mkdir()
+    with pytest.raises(OutputFileError, match="adir: cannot write"):
+        with atomic_output(tmp_path / "adir") as fh:
+            fh.write("x")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["adir"]
+    assert list((tmp_path / "adir").iterdir()) == []
+
+
+def test_calibrate_scale_with_an_unwritable_header_writes_no_json(tmp_path):
+    from pysig import cli
+    src = tmp_path / "in.csv"
+    src.write_text("kg,counts\n0,120\n10,10130\n20,20118\n30,30127\n")
+    out = tmp_path / "cal.json"
+    status = cli.main(["calibrate-scale", str(src), "-o", str(out),
+                       "--header", str(tmp_path / "nodir" / "cal.h")])
+    assert status == 8
+    assert not out.exists()

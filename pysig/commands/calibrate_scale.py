@@ -34,10 +34,14 @@ def run(args):
                               f"{saturated_count(d[args.counts][i])}")
     cal = calibrate(d[args.counts], d[args.mass], unit=args.unit)
     off, mant, shift = cal.fixed()
-    cal.save(args.output)
     if args.header:
+        # the header's temporary file first: a header that cannot be written
+        # (say, a missing directory) leaves no JSON behind either
         with atomic_output(args.header) as fh:
             fh.write(cal.c_header(args.name))
+            cal.save(args.output)
+    else:
+        cal.save(args.output)
     print(f"{d[args.mass].size} readings: sensitivity {cal.counts_per_unit:.3f} counts/{cal.unit}, "
           f"zero {cal.offset_counts:.1f} counts, linearity error {cal.linearity_err_pct_fs:.4f} % of "
           f"{cal.full_scale:g} {cal.unit}, residual rms {cal.residual_rms:.4g} {cal.unit}")
