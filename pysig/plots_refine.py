@@ -11,6 +11,7 @@ import numpy as np  # noqa: E402
 
 from . import effects as fx  # noqa: E402
 from .io import atomic_output  # noqa: E402
+from .errors import OutputFileError  # noqa: E402
 
 
 def effect_regressor(data, model, effect):
@@ -42,7 +43,10 @@ def _pair(path, x, before, after, mask, xlabel, title, unit):
 
 def write_plots(result, directory, prefix=""):
     """Write the figures of `result` into `directory`; returns the paths."""
-    os.makedirs(directory, exist_ok=True)
+    try:
+        os.makedirs(directory, exist_ok=True)
+    except OSError as exc:
+        raise OutputFileError(f"{directory}: cannot create the plot directory: {exc.strerror}") from exc
     data, base, final = result.data, result.base, result.final
     unit = data.labels.get("unit", "")
     what = data.labels.get("column", "value")
