@@ -86,4 +86,14 @@ sig_status sig_tcomp16_init(sig_tcomp16_q *m, uint8_t n_axes, uint8_t order,
  * (an output hit an int16 rail); SIG_ERR_ARG (out untouched) for NULL. */
 sig_status sig_tcomp16_apply_q(const sig_tcomp16_q *m, int16_t t, const int16_t *in, int16_t *out);
 
+/* Load the compact model from a coefficient image in image[0..len) (its
+ * SIG_SECTION_COMPACT_POLY section, payload in sig_image.h), in
+ * sig_tcomp16_image.c so that firmware which never reads an image links
+ * none of it.  Argument order as sig_tcomp_load_image.  SIG_OK; the
+ * statuses of sig_image_find_section (SIG_ERR_FORMAT, SIG_ERR_CRC,
+ * SIG_ERR_EMPTY when there is no compact section, SIG_ERR_ARG for NULL);
+ * SIG_ERR_FORMAT for a payload of the wrong length, a non-zero reserved
+ * byte, or fields sig_tcomp16_init rejects.  *m untouched on any error. */
+sig_status sig_tcomp16_load_image(sig_tcomp16_q *m, const uint8_t *image, size_t len);
+
 #endif /* SIG_TCOMP16_H */
