@@ -1,13 +1,14 @@
 # cython: language_level=3
 """Cython bridge to csrc/sig_tcomp16.c: the compact fixed-point temperature
 compensation (int16 multiplicands, 16x16 products) over numpy arrays.  The
-coefficients come from pysig.quant.quantize_compact."""
+coefficients come from pysig.quant.quantize_compact, or from a coefficient
+image through the firmware's loader (Tcomp16Q.from_image)."""
 import numpy as np
 cimport numpy as cnp
 from libc.stdint cimport int16_t, int32_t, uint8_t, uint16_t, uint32_t
 
 from ._tcomp import _int16          # the same int16 check as the int32 form
-from .errors import RangeError
+from .errors import ModelFileError, RangeError
 
 cnp.import_array()
 
@@ -16,6 +17,7 @@ cdef extern from "sig_types.h":
 
 cdef extern from "sig_tcomp16.h":
     ctypedef struct sig_tcomp16_q:
+        uint16_t coef[33]
         uint8_t n_axes
         uint8_t order
         int16_t t_lo
@@ -25,6 +27,16 @@ cdef extern from "sig_tcomp16.h":
                                 const int32_t *add, int16_t t_lo, int16_t t_hi, uint8_t w_shift)
     sig_status sig_tcomp16_apply_q(const sig_tcomp16_q *m, int16_t t, const int16_t *inp,
                                    int16_t *out) nogil
+    sig_status sig_tcomp16_load_image(sig_tcomp16_q *m, const uint8_t *image, size_t len)
+
+
+def _s16(v):
+    return v - 0x10000 if v & 0x8000 else v
+
+
+def _s32(v):
+    v &= 0xFFFFFFFF
+    return v - (1 << 32) if v & 0x80000000 else v
 
 
 cdef class Tcomp16Q:
@@ -63,6 +75,54 @@ cdef class Tcomp16Q:
     @staticmethod
     def from_compact(compact):
         return Tcomp16Q.from_fields(**compact.fields())
+
+    @staticmethod
+    def from_image(data, where="image"):
+        """sig_tcomp16_load_image on image bytes; ModelFileError naming the
+        status when the loader refuses them."""
+        cdef Tcomp16Q self = Tcomp16Q.__new__(Tcomp16Q)
+        data = bytes(data)
+        cdef const uint8_t[::1] b = data + b"\0"       # never a zero-length view
+        st = sig_tcomp16_load_image(&self.m, &b[0], len(data))
+        if st != 0:
+            text = {-3: "bad format (magic, version, length, sections or compact payload)",
+                    -4: "CRC mismatch", -5: "no compact-polynomial section"}.get(st, f"status {st}")
+            raise ModelFileError(f"{where}: the C loader rejected the image: {text}")
+        return self
+
+    def load(self, data):
+        """sig_tcomp16_load_image into this model: its status (0 loaded; on
+        any error the C struct is left exactly as it was)."""
+        data = bytes(data)
+        cdef const uint8_t[::1] b = data + b"\0"
+        return sig_tcomp16_load_image(&self.m, &b[0], len(data))
+
+    def raw(self):
+        """The bytes of the C struct (to show a failed load changed nothing)."""
+        return (<char *>&self.m)[:sizeof(sig_tcomp16_q)]
+
+    def fields(self):
+        """The sig_tcomp16_init arguments held by the C struct (top, add,
+        t_lo, t_hi, w_shift), decoded from its packed offset-binary stream
+        (the inverse of store_axis in sig_tcomp16.c)."""
+        cdef int n = self.m.n_axes, order = self.m.order, a, k, base
+        tops, adds = [], []
+        for a in range(n):
+            base = a * (1 + 2 * order)
+            word = self.m.coef[base]
+            top = _s16(word ^ 0x8000) if order > 1 else _s16(word)
+            add = []
+            for k in range(order):
+                c = self.m.coef[base + 1 + 2 * k] | (self.m.coef[base + 2 + 2 * k] << 16)
+                if k + 2 != order:
+                    c -= 1 << 31
+                if order == 1:
+                    c -= top << 15
+                add.append(_s32(c))
+            tops.append(top)
+            adds.append(add)
+        return {"top": tops, "add": adds, "t_lo": self.m.t_lo, "t_hi": self.m.t_hi,
+                "w_shift": self.m.w_shift}
 
     @property
     def n_axes(self):

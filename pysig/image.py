@@ -5,11 +5,14 @@ Generic part: `build_image(sections, sequence)` and `read_image(data)` work
 on any list of (type id, payload bytes), so other modules add their own
 section types (ids in SECTION_*) without touching this file's reader.
 Specific part: the offset-polynomial section of the temperature model
-(`offset_poly_payload`, `model_from_payload`)."""
+(`offset_poly_payload`, `parse_offset_poly`, `model_image`) and the compact
+section of pysig.quant.CompactModel (`compact_poly_payload`,
+`parse_compact_poly`, `compact_image`; C loader sig_tcomp16_load_image)."""
 import struct
 
-from .errors import ModelFileError
+from .errors import ModelFileError, RangeError
 from .reference import image as ref
+from .reference import tcomp16 as ref16
 
 SECTION_OFFSET_POLY = 1
 SECTION_GAIN_POLY = 2
@@ -18,8 +21,10 @@ SECTION_HYSTERESIS = 4
 SECTION_CREEP = 5
 SECTION_PWL_TABLE = 6
 SECTION_LINEAR_SCALE = 7
+SECTION_COMPACT_POLY = ref.SECTION_COMPACT_POLY
 SECTION_EXPERIMENTAL = 0x8000
 OFFSET_POLY_FIXED_LEN = 14
+COMPACT_POLY_FIXED_LEN = ref.COMPACT_POLY_FIXED_LEN
 
 _STATUS_TEXT = {ref.SIG_ERR_FORMAT: "bad magic, version, length or section layout",
                 ref.SIG_ERR_CRC: "CRC mismatch (corrupt or partly written)"}
@@ -92,3 +97,31 @@ def parse_offset_poly(payload, where="image"):
 def model_image(model, sequence=1, extra_sections=()):
     """The NVM image of a model: its offset section plus any others."""
     return build_image([(SECTION_OFFSET_POLY, offset_poly_payload(model)), *extra_sections], sequence)
+
+
+def compact_poly_payload(compact):
+    """Payload of SECTION_COMPACT_POLY for a pysig.quant.CompactModel (or the
+    dict of its fields()); RangeError when sig_tcomp16_init would refuse it."""
+    fields = compact.fields() if hasattr(compact, "fields") else compact
+    if not ref16.valid(fields):
+        raise RangeError("compact section: the fields are not a model sig_tcomp16_init accepts "
+                         "(axes 1..3, order 1..5, range, w_shift or the no-overflow bound)")
+    return ref.compact_payload(fields)
+
+
+def parse_compact_poly(data, where="image"):
+    """Fields of sig_tcomp16_init (top, add, t_lo, t_hi, w_shift) from the
+    compact section of image bytes `data`: the checks of
+    sig_tcomp16_load_image, as a ModelFileError naming what is wrong."""
+    payload = find_section(data, SECTION_COMPACT_POLY, where)
+    st, fields = ref.load_compact(data)
+    if st != ref.SIG_OK:
+        raise ModelFileError(f"{where}: compact section of {len(payload)} bytes is malformed or holds "
+                             f"a model sig_tcomp16_init rejects (counts, length, reserved byte, "
+                             f"range, w_shift or the no-overflow bound)")
+    return fields
+
+
+def compact_image(compact, sequence=1, extra_sections=()):
+    """The NVM image of a CompactModel: its compact section plus any others."""
+    return build_image([(SECTION_COMPACT_POLY, compact_poly_payload(compact)), *extra_sections], sequence)

@@ -105,3 +105,44 @@ def build(section_list, seq):
     head = MAGIC + struct.pack("<BBHI", VERSION, 0, total, seq & 0xFFFFFFFF)
     data = head + body
     return data + struct.pack("<H", crc16_ccitt(data))
+
+
+# ---- SIG_SECTION_COMPACT_POLY: the spec of sig_tcomp16_load_image ----------
+SECTION_COMPACT_POLY = 8
+COMPACT_POLY_FIXED_LEN = 8     # u8 n_axes, u8 order, u8 w_shift, u8 0, i16 t_lo, i16 t_hi
+
+
+def compact_payload(fields):
+    """Payload bytes for the fields of sig_tcomp16_init (a dict: top, add per
+    axis in evaluation order, t_lo, t_hi, w_shift); the writer's spec."""
+    order = len(fields["add"][0])
+    out = struct.pack("<BBBBhh", len(fields["top"]), order, fields["w_shift"], 0,
+                      fields["t_lo"], fields["t_hi"])
+    for top, add in zip(fields["top"], fields["add"]):
+        out += struct.pack(f"<h{order}i", top, *add)
+    return out
+
+
+def load_compact(buf):
+    """(status, fields or None) of sig_tcomp16_load_image on bytes `buf`:
+    the section lookup, the payload's length and reserved byte, then exactly
+    what sig_tcomp16_init accepts (reference.tcomp16.valid)."""
+    from . import tcomp16
+    st, p = find_section(buf, SECTION_COMPACT_POLY)
+    if st != SIG_OK:
+        return st, None
+    if len(p) < COMPACT_POLY_FIXED_LEN:
+        return SIG_ERR_FORMAT, None
+    n_axes, order, w_shift, reserved, t_lo, t_hi = struct.unpack_from("<BBBBhh", p)
+    if not (1 <= n_axes <= tcomp16.MAX_AXES and 1 <= order <= tcomp16.MAX_ORDER and reserved == 0):
+        return SIG_ERR_FORMAT, None
+    if len(p) != COMPACT_POLY_FIXED_LEN + n_axes * (2 + 4 * order):
+        return SIG_ERR_FORMAT, None
+    top, add, pos = [], [], COMPACT_POLY_FIXED_LEN
+    for _ in range(n_axes):
+        values = struct.unpack_from(f"<h{order}i", p, pos)
+        top.append(values[0])
+        add.append(list(values[1:]))
+        pos += 2 + 4 * order
+    fields = {"top": top, "add": add, "t_lo": t_lo, "t_hi": t_hi, "w_shift": w_shift}
+    return (SIG_OK, fields) if tcomp16.valid(fields) else (SIG_ERR_FORMAT, None)
