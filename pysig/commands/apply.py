@@ -6,13 +6,14 @@ was outside the calibrated range and was clamped to it).  The default is the
 float64 model; --fixed runs the firmware's fixed-point C code (temperature
 rounded to 0.01 °C, readings must be int16).  Given a coefficient image
 (`pysig export --format image`), the firmware's C loader parses it and the
-fixed-point path runs; the image names no columns, so --temp and --columns
-say which to use."""
+fixed-point path runs: sig_tcomp16 when the image holds the compact section
+(`export --compact`), sig_tcomp otherwise; the image names no columns, so
+--temp and --columns say which to use."""
 import numpy as np
 
 from .. import model as tmodel
 from .. import quant
-from ..errors import InputFileError, NonFiniteError, RangeError
+from ..errors import InputFileError, ModelFileError, NonFiniteError, RangeError
 from ..io import read_csv, write_csv
 
 
@@ -41,7 +42,7 @@ def compensate(model, temp, readings, fixed=False):
 
 
 def compensate_fixed(c, temp, readings):
-    """The C fixed-point path (a TcompQ): temperature to 0.01 °C (clipped to
+    """The C fixed-point path (a TcompQ or Tcomp16Q): temperature to 0.01 °C (clipped to
     int16, then clamped and flagged by C), readings must be int16."""
     temp = np.asarray(temp, dtype=float)
     bad = np.flatnonzero(~np.isfinite(temp))
@@ -63,12 +64,25 @@ def is_image(path):
         return False
 
 
+def load_image(data, where):
+    """The C model of a coefficient image: Tcomp16Q when it holds the compact
+    section, else TcompQ; the C loaders decide what is valid."""
+    from .._tcomp import TcompQ, image_find_section
+    from .._tcomp16 import Tcomp16Q
+    from ..image import SECTION_COMPACT_POLY, SECTION_OFFSET_POLY
+    st = image_find_section(data, SECTION_COMPACT_POLY)[0]
+    if st == 0:
+        return Tcomp16Q.from_image(data, where=where)
+    if st == -5 and image_find_section(data, SECTION_OFFSET_POLY)[0] == -5:
+        raise ModelFileError(f"{where}: the image holds neither an offset-polynomial nor a compact section")
+    return TcompQ.from_image(data, where=where)
+
+
 def run(args):
     image = is_image(args.model)
     if image:
-        from .._tcomp import TcompQ
         with open(args.model, "rb") as fh:
-            c = TcompQ.from_image(fh.read(), where=args.model)
+            c = load_image(fh.read(), args.model)
         if not (args.temp and args.columns):
             raise InputFileError(f"apply: {args.model} is a coefficient image, which names no columns: "
                                  f"give --temp and --columns")

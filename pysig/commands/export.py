@@ -1,11 +1,16 @@
-"""`pysig export model.json --format json|c|image -o FILE [--sequence N] [--name PREFIX]`
+"""`pysig export model.json --format json|c|image -o FILE [--sequence N] [--name PREFIX] [--compact]`
 
 json: the model, checked and rewritten.  c: a C header with const arrays
 and the arguments of sig_tcomp_init_q / sig_tcomp_init_f.  image: the
 coefficient image for non-volatile memory (csrc/sig_image.h), with the given
-sequence number."""
+sequence number: the int32 offset section (sig_tcomp_load_image), or with
+--compact the compact section (sig_tcomp16_load_image: int16 multiplicands,
+pysig.quant.quantize_compact), refused with a RangeError when the model
+does not fit the compact form."""
 from .. import model as tmodel
-from ..image import model_image
+from .. import quant
+from ..errors import InputFileError
+from ..image import compact_image, model_image
 from ..io import atomic_output
 
 
@@ -16,6 +21,8 @@ def register(sub):
     p.add_argument("--format", choices=("json", "c", "image"), required=True)
     p.add_argument("--sequence", type=int, default=1, help="image sequence number (default 1)")
     p.add_argument("--name", default="tcomp", help="C identifier prefix (default tcomp)")
+    p.add_argument("--compact", action="store_true",
+                   help="image: the compact int16 form (sig_tcomp16) instead of the int32 one")
     p.add_argument("-o", "--output", required=True)
     p.set_defaults(func=run)
 
@@ -65,11 +72,12 @@ static const sig_real {name}_coef_f[{n * (k + 1)}] = {{ {flat_f} }};
 
 def run(args):
     model = tmodel.load(args.model)
+    if args.compact and args.format != "image":
+        raise InputFileError(f"export: --compact applies to --format image only, not {args.format}")
     if args.format == "json":
         model.save(args.output)
     elif args.format == "c":
         if not args.name.isidentifier():
-            from ..errors import InputFileError
             raise InputFileError(f"export: --name {args.name!r} is not a C identifier")
         text = c_header(model, args.name)
         with atomic_output(args.output) as fh:
@@ -78,7 +86,11 @@ def run(args):
         if not 0 <= args.sequence <= 0xFFFFFFFF:
             from ..errors import RangeError
             raise RangeError(f"export: --sequence {args.sequence} outside 0..4294967295")
-        data = model_image(model, sequence=args.sequence)
+        if args.compact:
+            cm = quant.quantize_compact(model, what=f"{args.model}: compact form")
+            data = compact_image(cm, sequence=args.sequence)
+        else:
+            data = model_image(model, sequence=args.sequence)
         with atomic_output(args.output, "wb") as fh:
             fh.write(data)
-    print(f"wrote {args.output} ({args.format})")
+    print(f"wrote {args.output} ({args.format}{', compact' if args.compact else ''})")
