@@ -1,12 +1,13 @@
 /* fuzz_image.c - the coefficient-image parser (sig_image) and the tcomp
- * loader (sig_tcomp_load_image) with arbitrary bytes.
+ * loaders (sig_tcomp_load_image, sig_tcomp16_load_image) with arbitrary bytes.
  *
  * The first input byte picks how the rest becomes an image:
  *   raw         the bytes as they are (almost always rejected early);
  *   fixed-up    header magic/version/total_len and the CRC are patched so
  *               the section walk and the loaders see arbitrary bodies;
  *   structured  a well-framed image with an offset-polynomial section of
- *               fuzzed contents, between sections of fuzzed types.
+ *               fuzzed contents, between sections of fuzzed types (and
+ *               optionally a compact section of fuzzed contents).
  * Every image is copied into a heap buffer of exactly its length, so a read
  * past the end is an AddressSanitizer report.  Invariants:
  *   - sig_image_validate's status equals an independent re-implementation
@@ -14,6 +15,8 @@
  *   - a found section lies inside [12, total_len - 2);
  *   - sig_tcomp_load_image leaves the model untouched on error, and a loaded
  *     model is in range and can be applied to any temperature and reading;
+ *   - sig_tcomp16_load_image likewise, and it accepts only images whose
+ *     compact payload sig_tcomp16_init accepts (checked by calling it);
  *   - sig_pwl_load_image (storage in an exactly sized heap buffer, room
  *     fuzzed) writes nothing on error; loaded tables evaluate at any
  *     temperature within the storage;
@@ -27,6 +30,7 @@
 #include "sig_image.h"
 #include "sig_pwl.h"
 #include "sig_tcomp.h"
+#include "sig_tcomp16.h"
 
 #define REQUIRE(cond) do { if (!(cond)) abort(); } while (0)
 
@@ -96,6 +100,49 @@ static void check_model(const sig_tcomp_q *m, fuzz_input *in)
         st = sig_tcomp_apply_q(m, t, r, out);
         REQUIRE(st >= 0 && (st & ~(SIG_WARN_CLAMPED | SIG_WARN_SATURATED)) == 0);
         REQUIRE(((st & SIG_WARN_CLAMPED) != 0) == (t < m->t_lo || t > m->t_hi));
+    }
+}
+
+/* The compact loader: untouched on error; on success the same struct as
+ * sig_tcomp16_init on the payload's fields, applicable at any temperature. */
+static void check_tcomp16_loader(const uint8_t *buf, size_t len, sig_status image_status, fuzz_input *in)
+{
+    sig_tcomp16_q m, before, direct;
+    const uint8_t *p;
+    uint16_t plen;
+    int16_t top[3], r[3], out[3];
+    int32_t add[15];
+    unsigned a, k, pos;
+    sig_status st;
+    memset(&m, 0xA5, sizeof m);
+    before = m;
+    st = sig_tcomp16_load_image(&m, buf, len);
+    if (st != SIG_OK) {
+        REQUIRE(st == SIG_ERR_FORMAT || st == SIG_ERR_CRC || st == SIG_ERR_EMPTY);
+        if (image_status != SIG_OK) REQUIRE(st == image_status);
+        REQUIRE(memcmp(&m, &before, sizeof m) == 0);
+        return;
+    }
+    REQUIRE(image_status == SIG_OK);
+    REQUIRE(sig_image_find_section(buf, len, SIG_SECTION_COMPACT_POLY, &p, &plen) == SIG_OK);
+    REQUIRE(p[0] >= 1 && p[0] <= 3 && p[1] >= 1 && p[1] <= 5 && p[3] == 0);
+    REQUIRE(plen == 8u + p[0] * (2u + 4u * p[1]));
+    for (a = 0, pos = 8; a < p[0]; a++) {
+        top[a] = (int16_t)(uint16_t)rd16(p + pos);
+        pos += 2;
+        for (k = 0; k < p[1]; k++, pos += 4)
+            add[a * p[1] + k] = (int32_t)((uint32_t)rd16(p + pos) | ((uint32_t)rd16(p + pos + 2) << 16));
+    }
+    memset(&direct, 0xA5, sizeof direct);
+    REQUIRE(sig_tcomp16_init(&direct, p[0], p[1], top, add, (int16_t)(uint16_t)rd16(p + 4),
+                             (int16_t)(uint16_t)rd16(p + 6), p[2]) == SIG_OK);
+    REQUIRE(memcmp(&m, &direct, sizeof m) == 0);
+    for (k = 0; k < 4; k++) {
+        int16_t t = k == 0 ? INT16_MIN : k == 1 ? INT16_MAX : fuzz_i16(in);
+        r[0] = fuzz_i16(in); r[1] = INT16_MIN; r[2] = INT16_MAX;
+        st = sig_tcomp16_apply_q(&m, t, r, out);
+        REQUIRE(st >= 0 && (st & ~(SIG_WARN_CLAMPED | SIG_WARN_SATURATED)) == 0);
+        REQUIRE(((st & SIG_WARN_CLAMPED) != 0) == (t < m.t_lo || t > m.t_hi));
     }
 }
 
@@ -174,6 +221,7 @@ static void check_image(const uint8_t *img, size_t len, int sealed, fuzz_input *
         REQUIRE(memcmp(&m, &before, sizeof m) == 0);
     }
 
+    check_tcomp16_loader(buf, len, st, in);
     check_pwl_loader(buf, len, st, in);
 
     if (st == SIG_OK) {
@@ -253,6 +301,48 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             }
         }
         if (extra & 4u) { wr16(img + pos, SIG_SECTION_PWL_TABLE); wr16(img + pos + 2, 0); pos += 4; }
+        if (extra & 32u) {
+            /* a compact section: counts in range unless bit 6, t_lo < t_hi
+             * unless bit 1 of its flags, small coefficients (of 16 bits)
+             * half the time so that sig_tcomp16_init accepts some */
+            uint8_t f = fuzz_u8(&in);
+            unsigned c_axes = 1u + fuzz_u8(&in) % 3u, c_ord = 1u + fuzz_u8(&in) % 5u, plen3;
+            int16_t lo = fuzz_i16(&in), hi = fuzz_i16(&in);
+            if (extra & 64u) { c_axes = fuzz_u8(&in) % 5u; c_ord = fuzz_u8(&in) % 7u; }
+            if (!(f & 2u) && lo > hi) { int16_t x = lo; lo = hi; hi = x; }
+            plen3 = 8u + c_axes * (2u + 4u * c_ord);
+            if (f & 4u) plen3 = (plen3 + fuzz_u8(&in) % 5u) - 2u;      /* a wrong length */
+            wr16(img + pos, SIG_SECTION_COMPACT_POLY);
+            wr16(img + pos + 2, plen3);
+            pos += 4;
+            for (k = 0; k < plen3; k++) img[pos + k] = fuzz_u8(&in);
+            if (plen3 >= 8u) {
+                img[pos] = (uint8_t)c_axes;
+                img[pos + 1] = (uint8_t)c_ord;
+                img[pos + 2] = fuzz_u8(&in) % 17u;                        /* w_shift */
+                if (f & 32u && lo < hi) {                                  /* the largest valid one */
+                    unsigned span = (unsigned)((int32_t)hi - lo), j = 0;
+                    while (j < 15u && (span << (j + 1u)) <= 0xFFFFu) j++;
+                    img[pos + 2] = (uint8_t)j;
+                }
+                img[pos + 3] = (f & 8u) ? fuzz_u8(&in) : 0u;              /* reserved */
+                wr16(img + pos + 4, (unsigned)(uint16_t)lo);
+                wr16(img + pos + 6, (unsigned)(uint16_t)hi);
+                if ((f & 16u) && plen3 == 8u + c_axes * (2u + 4u * c_ord)) {
+                    unsigned q = pos + 8u;                                 /* small coefficients */
+                    for (a = 0; a < c_axes; a++) {
+                        wr16(img + q, (unsigned)(uint16_t)(int16_t)(int8_t)fuzz_u8(&in));
+                        q += 2u;
+                        for (k = 0; k < c_ord; k++, q += 4u) {
+                            uint32_t c = (uint32_t)(int32_t)fuzz_i16(&in);
+                            wr16(img + q, c & 0xFFFFu);
+                            wr16(img + q + 2u, c >> 16);
+                        }
+                    }
+                }
+            }
+            pos += plen3;
+        }
         if (extra & 8u) {
             /* a table section: axes, knots, range, recip (derived unless bit 4), entries */
             unsigned t_axes = 1u + fuzz_u8(&in) % 3u, knots = 2u + fuzz_u8(&in) % 40u, plen2;
