@@ -223,14 +223,20 @@ int main(void)
 
 @pytest.mark.parametrize("real", ["float", "double"])
 def test_c_bad_arguments_leave_state_unchanged(tmp_path, real):
+    run_chain_program(tmp_path, "chain_args", PROGRAM, real, "-O1")
+
+
+def run_chain_program(tmp_path, name, program, real, opt):
+    """Build `program` with the chain's C under ASan+UBSan and run it: it
+    prints '0 failures' when its checks pass."""
     gcc = require_tool("gcc")
-    src = tmp_path / "chain_args.c"
-    src.write_text(PROGRAM)
-    exe = tmp_path / "chain_args"
+    src = tmp_path / f"{name}.c"
+    src.write_text(program)
+    exe = tmp_path / name
     defs = ["-DSIG_REAL_DOUBLE"] if real == "double" else []
     sources = [str(CSRC / f"sig_{n}.c") for n in ("limit", "antipulse", "kalman1", "stable", "chain",
                                                    "chain_batch")]
-    build = subprocess.run([gcc, "-std=c99", "-O1", "-Wall", "-fsanitize=undefined,address",
+    build = subprocess.run([gcc, "-std=c99", opt, "-Wall", "-fsanitize=undefined,address",
                             "-fno-sanitize-recover=all", *defs, "-I", str(CSRC), str(src), *sources,
                             "-o", str(exe)], capture_output=True, text=True)
     assert build.returncode == 0, build.stderr
@@ -245,17 +251,4 @@ def test_c_batch_equals_step_loop_byte_for_byte(tmp_path, real):
     flags and the whole state byte for byte, over 40 random parameter sets
     with steps, glitches, NaN/inf and samples near the float range (the fast
     path's bound is 1e36 in float: those samples take the step path)."""
-    gcc = require_tool("gcc")
-    src = tmp_path / "chain_batch.c"
-    src.write_text(BATCH)
-    exe = tmp_path / "chain_batch"
-    defs = ["-DSIG_REAL_DOUBLE"] if real == "double" else []
-    sources = [str(CSRC / f"sig_{n}.c") for n in ("limit", "antipulse", "kalman1", "stable", "chain",
-                                                   "chain_batch")]
-    build = subprocess.run([gcc, "-std=c99", "-O2", "-Wall", "-fsanitize=undefined,address",
-                            "-fno-sanitize-recover=all", *defs, "-I", str(CSRC), str(src), *sources,
-                            "-o", str(exe)], capture_output=True, text=True)
-    assert build.returncode == 0, build.stderr
-    run = subprocess.run([str(exe)], capture_output=True, text=True)
-    assert run.returncode == 0, run.stdout + run.stderr
-    assert "0 failures" in run.stdout
+    run_chain_program(tmp_path, "chain_batch", BATCH, real, "-O2")

@@ -12,17 +12,7 @@
 #include "sig_chain.h"
 #include "chain_vectors.h"
 
-#if defined(__clang__) || defined(__GNUC__)
-#define NOINLINE __attribute__((noinline))
-#else
-#define NOINLINE            /* sdcc never inlines a function without 'inline' */
-#endif
-
-/* Markers need a side effect: clang deletes calls to empty functions. */
-volatile uint8_t bench_mark;
-NOINLINE void bench_start(void) { bench_mark = 1; }
-NOINLINE void bench_stop(void) { bench_mark = 2; }
-NOINLINE void bench_done(void) { bench_mark = 3; }
+#include "bench_marks.h"
 
 sig_status init_status;
 sig_status one_status;
