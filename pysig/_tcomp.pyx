@@ -222,12 +222,8 @@ cdef class TcompQ:
         """sig_tcomp_apply_q per sample: temp int16 (n,), readings int16
         (n, n_axes) -> (int16 (n, n_axes), status (n,))."""
         cdef cnp.ndarray[cnp.int16_t, ndim=1] t = _int16(temp, "temperature")
-        x_in = np.asarray(readings)
-        if x_in.ndim == 1 and self.m.n_axes == 1:
-            x_in = x_in[:, None]
-        if x_in.ndim != 2 or x_in.shape[1] != self.m.n_axes or x_in.shape[0] != t.shape[0]:
-            raise RangeError(f"TcompQ.apply: readings must be ({t.shape[0]}, {self.m.n_axes})")
-        cdef cnp.ndarray[cnp.int16_t, ndim=2] x = np.ascontiguousarray(_int16(x_in, "reading").reshape(x_in.shape))
+        cdef cnp.ndarray[cnp.int16_t, ndim=2] x = _int16_readings(readings, self.m.n_axes, t.shape[0],
+                                                                  "TcompQ.apply")
         cdef Py_ssize_t n = t.shape[0], i
         cdef cnp.ndarray[cnp.int16_t, ndim=2] out = np.zeros((n, self.m.n_axes), dtype=np.int16)
         cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
@@ -281,3 +277,14 @@ def _int16(values, what):
                       or flat.min() < -32768 or flat.max() > 32767):
         raise RangeError(f"{what}: values must be integers within int16")
     return np.ascontiguousarray(flat, dtype=np.int16)
+
+
+def _int16_readings(readings, n_axes, n, what):
+    """Readings as a contiguous int16 (n, n_axes) array (a 1-D array for one
+    axis), or a RangeError naming `what`."""
+    x_in = np.asarray(readings)
+    if x_in.ndim == 1 and n_axes == 1:
+        x_in = x_in[:, None]
+    if x_in.ndim != 2 or x_in.shape[1] != n_axes or x_in.shape[0] != n:
+        raise RangeError(f"{what}: readings must be ({n}, {n_axes})")
+    return np.ascontiguousarray(_int16(x_in, "reading").reshape(x_in.shape))

@@ -7,7 +7,7 @@ import numpy as np
 cimport numpy as cnp
 from libc.stdint cimport int16_t, int32_t, uint8_t, uint16_t, uint32_t
 
-from ._tcomp import _int16          # the same int16 check as the int32 form
+from ._tcomp import _int16, _int16_readings    # the same int16 checks as the int32 form
 from .errors import ModelFileError, RangeError
 
 cnp.import_array()
@@ -136,13 +136,8 @@ cdef class Tcomp16Q:
         """sig_tcomp16_apply_q per sample: temp int16 (n,), readings int16
         (n, n_axes) -> (int16 (n, n_axes), status (n,))."""
         cdef cnp.ndarray[cnp.int16_t, ndim=1] t = _int16(temp, "temperature")
-        x_in = np.asarray(readings)
-        if x_in.ndim == 1 and self.m.n_axes == 1:
-            x_in = x_in[:, None]
-        if x_in.ndim != 2 or x_in.shape[1] != self.m.n_axes or x_in.shape[0] != t.shape[0]:
-            raise RangeError(f"Tcomp16Q.apply: readings must be ({t.shape[0]}, {self.m.n_axes})")
-        cdef cnp.ndarray[cnp.int16_t, ndim=2] x = np.ascontiguousarray(
-            _int16(x_in, "reading").reshape(x_in.shape))
+        cdef cnp.ndarray[cnp.int16_t, ndim=2] x = _int16_readings(readings, self.m.n_axes, t.shape[0],
+                                                                  "Tcomp16Q.apply")
         cdef Py_ssize_t n = t.shape[0], i
         cdef cnp.ndarray[cnp.int16_t, ndim=2] out = np.zeros((n, self.m.n_axes), dtype=np.int16)
         cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
