@@ -1,27 +1,51 @@
-"""Build the Cython extensions: one extension per pysig/*.pyx, each compiled
-with the whole C99 core from csrc/ (the same sources the firmware uses)."""
+"""Build the Cython extensions.  The C99 core (csrc/<area>/*.c, the same
+sources the firmware uses) is compiled once into a static library, sigcore,
+which every extension (pysig/<area>/_*.pyx) links."""
 import glob
 import os
 
 import numpy
 from Cython.Build import cythonize
 from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-CSRC = sorted(os.path.relpath(p, HERE) for p in glob.glob(os.path.join(HERE, "csrc", "*.c")))
+CSRC_INCLUDE = os.path.join("csrc", "include")
+CORE_SOURCES = sorted(os.path.relpath(p, HERE) for p in glob.glob(os.path.join(HERE, "csrc", "*", "*.c")))
+# The host build carries the float path as double so numpy float64 flows
+# through unconverted; firmware builds use float (sig_types.h).
+CORE_MACROS = [("SIG_REAL_DOUBLE", "1")]
+CFLAGS = ["-O2", "-std=c99", "-fPIC"]
+
+sigcore = ("sigcore", {"sources": CORE_SOURCES, "include_dirs": [CSRC_INCLUDE],
+                       "macros": CORE_MACROS, "cflags": CFLAGS})
+
+
+class build_ext_with_core(build_ext):
+    """build_ext that builds the sigcore library first (plain build_ext,
+    as run by `build_ext --inplace` and editable installs, does not)."""
+
+    def run(self):
+        self.run_command("build_clib")
+        super().run()
+
+
+def module_name(pyx):
+    return os.path.splitext(os.path.relpath(pyx, HERE))[0].replace(os.sep, ".")
+
 
 extensions = [
     Extension(
-        "pysig." + os.path.splitext(os.path.basename(pyx))[0],
-        sources=[os.path.relpath(pyx, HERE)] + CSRC,
-        include_dirs=["csrc", numpy.get_include()],
-        # The host build carries the float path as double so numpy float64
-        # flows through unconverted; firmware builds use float (sig_types.h).
-        define_macros=[("SIG_REAL_DOUBLE", "1"), ("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],
-        extra_compile_args=["-O2", "-std=c99"],
+        module_name(pyx),
+        sources=[os.path.relpath(pyx, HERE)],
+        include_dirs=[CSRC_INCLUDE, numpy.get_include()],
+        libraries=["sigcore"],
+        define_macros=CORE_MACROS + [("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],
+        extra_compile_args=CFLAGS,
     )
-    for pyx in sorted(glob.glob(os.path.join(HERE, "pysig", "*.pyx")))
+    for pyx in sorted(glob.glob(os.path.join(HERE, "pysig", "**", "_*.pyx"), recursive=True))
 ]
 
-setup(ext_modules=cythonize(extensions, language_level=3,
+setup(libraries=[sigcore], cmdclass={"build_ext": build_ext_with_core},
+      ext_modules=cythonize(extensions, language_level=3,
                             compiler_directives={"boundscheck": False, "wraparound": False}))

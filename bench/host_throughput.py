@@ -18,14 +18,12 @@ import argparse
 import json
 import os
 import platform
-import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
-from pysig import chain as C  # noqa: E402
+from pysig.weigh import chain as C  # noqa: E402
 from pysig.reference import chain as R  # noqa: E402
 
 

@@ -23,23 +23,20 @@ from __future__ import annotations
 import argparse
 import json
 import struct
-import sys
 from pathlib import Path
 
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "bench" / "mcu"))
-sys.path.insert(0, str(ROOT))
-import runner  # noqa: E402
-import tcomp16_vectors  # noqa: E402
-import vectors  # noqa: E402
+from pysig.mcu import runner  # noqa: E402
+from pysig.mcu import tcomp16_vectors  # noqa: E402
+from pysig.mcu import vectors  # noqa: E402
 
 CSRC = runner.CSRC
 HARNESS = ROOT / "bench" / "mcu" / "harness"
 TCOMP_SRC = runner.csrc_sources("sig_tcomp")     # + sig_poly, sig_image, sig_crc16
 TCOMP16_SRC = runner.csrc_sources("sig_tcomp16")  # the compact form (int16 multiplicands)
-PORT_MSP430 = ROOT / "bench" / "mcu" / "msp430"   # sig_port_msp430.h: the fixed16_inline build
+PORT_MSP430 = runner.PORT_MSP430   # sig_port_msp430.h: the fixed16_inline build
 INLINE_DEFINES = {"SIG_PORT_HEADER": '"sig_port_msp430.h"', "MPY_BASE": runner.MSP430_MPY_BASE_SIM}
 CHAIN_SRC = runner.csrc_sources("sig_chain")     # + limit, antipulse, kalman1, stable, ...
 MCLK_HZ = 8_000_000          # MSP430F5510 as in the paper
@@ -119,7 +116,7 @@ def tcomp_row(order: int, form: str, hwmult: bool, vdd: float) -> dict:
     r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
                        reads={"vec_out": esize * n * a, "vec_status": 2 * n})
     fw_st = _i16(r["reads"]["vec_status"])
-    from pysig._tcomp import TcompF, TcompQ
+    from pysig.tcomp._tcomp import TcompF, TcompQ
     if fl:
         fw = np.frombuffer(r["reads"]["vec_out"], "<f4").reshape(n, a).astype(float)
         host = TcompF(case.coef_f.astype(float), float(np.float32(case.t_lo / 100)),
@@ -156,7 +153,7 @@ def tcomp_row(order: int, form: str, hwmult: bool, vdd: float) -> dict:
 def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False) -> dict:
     """The compact form (csrc/sig_tcomp16.c) on the same temperatures and
     readings as tcomp_row, the same polynomial quantised by
-    pysig.quant.quantize_compact (bench/mcu/tcomp16_vectors.py), checked
+    pysig.tcomp.quant.quantize_compact (bench/mcu/tcomp16_vectors.py), checked
     against the host C before the row is returned.  inline: the same C with
     the sig_port.h hooks of bench/mcu/msp430/sig_port_msp430.h (multiplier
     MAC/MACS as volatile accesses, hw only)."""
@@ -172,7 +169,7 @@ def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False) -> d
     n, a = case.base.in_q.shape
     r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
                        reads={"vec_out": 2 * n * a, "vec_status": 2 * n})
-    from pysig._tcomp16 import Tcomp16Q
+    from pysig.tcomp._tcomp16 import Tcomp16Q
     h_out, h_st = Tcomp16Q.from_compact(case.compact).apply(case.base.t_q, case.base.in_q)
     if not (np.array_equal(_i16(r["reads"]["vec_out"]).reshape(n, a), h_out)
             and np.array_equal(_i16(r["reads"]["vec_status"]), h_st)):
@@ -228,7 +225,7 @@ def chain_rows_msp430(form: str, hwmult: bool, case, vdd: float) -> dict:
 
 
 def _check_chain(case, form, reads):
-    from pysig.chain import Chain
+    from pysig.weigh.chain import Chain
     n = len(case.x)
     out, _, st = Chain(case.preset, fixed=form == "fixed").process(case.x.astype(float), flags=True)
     fw_st = _i16(reads["vec_status"])
@@ -313,7 +310,7 @@ def tcomp_fast_row(order: int, vdd: float) -> dict:
     n, a = case.in_q.shape
     r = runner.measure(img, funcs=["tcomp_fast_apply_q"], regions=["bench_start:bench_stop"],
                        reads={"vec_out": 2 * n * a, "vec_status": 2 * n})
-    from pysig._tcomp import TcompQ
+    from pysig.tcomp._tcomp import TcompQ
     host = TcompQ.from_fields(case.coef_q, case.q, case.t_lo, case.t_hi, case.t_center,
                               case.t0, case.u_mul, case.u_shift)
     h_out, h_st = host.apply(case.t_q, case.in_q)
@@ -343,7 +340,7 @@ def tcomp_row_mcs51(order: int) -> dict:
                              name=f"tcomp-o{order}", extra_flags=["--stack-auto"])
     n, a = case.in_q.shape
     r = runner.measure(img, funcs=["sig_tcomp_apply_q"], reads={"vec_out": 2 * n * a})
-    from pysig._tcomp import TcompQ
+    from pysig.tcomp._tcomp import TcompQ
     host = TcompQ.from_fields(case.coef_q, case.q, case.t_lo, case.t_hi, case.t_center,
                               case.t0, case.u_mul, case.u_shift)
     if not np.array_equal(_i16(r["reads"]["vec_out"]).reshape(n, a), host.apply(case.t_q, case.in_q)[0]):

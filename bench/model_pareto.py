@@ -5,7 +5,7 @@ project's simulated chamber.
     python bench/model_pareto.py --json pareto.json --plot figs/
 
 For each dataset, axis, family and size:
-  cv_rms      blocked cross-validation RMS over temperature (pysig.model_select:
+  cv_rms      blocked cross-validation RMS over temperature (pysig.tcomp.model_select:
               interior blocks of the temperature range held out in turn), in
               the data's unit, of the float least-squares model;
   fit_rms     in-sample RMS of the deployed fixed-point model as the C
@@ -25,7 +25,7 @@ Every MCU result is read back from the simulator and compared with the host
 C bit for bit; a mismatch stops the bench.
 
 Datasets: the MPU-6000 gyro offset curve of ../shared/data (MatrixPilot,
-GPL: read from there, never bundled) and pysig.sim_chamber's default run
+GPL: read from there, never bundled) and pysig.sim.chamber's default run
 (the seed paper's 0/25/50/70 °C steps) averaged into 0.25 °C bins."""
 from __future__ import annotations
 
@@ -40,20 +40,18 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "bench" / "mcu"))
 
-import runner  # noqa: E402  (bench/mcu/runner.py)
+from pysig.mcu import runner  # noqa: E402  (bench/mcu/runner.py)
 
-from pysig import quant  # noqa: E402
-from pysig._tcomp import TcompQ  # noqa: E402
+from pysig.tcomp import quant  # noqa: E402
+from pysig.tcomp._tcomp import TcompQ  # noqa: E402
 from pysig.io import atomic_output  # noqa: E402
 from pysig.lsq import fit_poly  # noqa: E402
-from pysig.model_select import (CHOICE_TOLERANCE, PAPER_ORDER, bin_by_temperature,  # noqa: E402
+from pysig.tcomp.model_select import (CHOICE_TOLERANCE, PAPER_ORDER, bin_by_temperature,  # noqa: E402
                                 choose, four_point_choice, four_point_study, load_curve,
                                 score_sizes)
-from pysig.pwl import fit_pwl_q16  # noqa: E402
-from pysig.sim_chamber import ChamberParams, simulate  # noqa: E402
+from pysig.tcomp.pwl import fit_pwl_q16  # noqa: E402
+from pysig.sim.chamber import ChamberParams, simulate  # noqa: E402
 
 HERE = Path(__file__).resolve().parent / "model_pareto"
 MPU_CSV = ROOT.parent / "shared" / "data" / "mpu6000_gyro_offset_vs_temp" / "mpu6000_sn102_gyro_offset.csv"
@@ -206,8 +204,8 @@ def mcu_poly(tag, pm, order):
          f"#define POLY_T_CENTER {sc.t_center}\n#define POLY_U_MUL {sc.u_mul}\n"
          f"#define POLY_U_SHIFT {sc.u_shift}\n#define TEMPS {_arr(temps)}\n")
     m = measure_case(tag, "harness_poly.c",
-                     [ROOT / "csrc" / "sig_tcomp.c", ROOT / "csrc" / "sig_poly.c",
-                      ROOT / "csrc" / "sig_image.c", ROOT / "csrc" / "sig_crc16.c"],
+                     [runner.c_source("sig_tcomp"), runner.c_source("sig_poly"),
+                      runner.c_source("sig_image"), runner.c_source("sig_crc16")],
                      h, "sig_tcomp_delta_q")
     for a in range(3):
         host, _ = poly_eval_host(pm, a, temps)
@@ -224,7 +222,7 @@ def mcu_pwl(tag, tabs, n_knots):
          f"#define PWL_RANGES {{{', '.join(_arr([t.t_lo, t.t_hi]) for t in tabs)}}}\n"
          f"#define PWL_RECIPS {{{', '.join(f'UINT32_C({t.recip})' for t in tabs)}}}\n"
          f"#define PWL_VFS {_arr([t.value_frac for t in tabs])}\n#define TEMPS {_arr(temps)}\n")
-    m = measure_case(tag, "harness_pwl.c", [ROOT / "csrc" / "sig_pwl.c"], h, "sig_pwl_eval_q16")
+    m = measure_case(tag, "harness_pwl.c", [runner.c_source("sig_pwl")], h, "sig_pwl_eval_q16")
     for a, t in enumerate(tabs):
         host, hstat = t.eval_c(temps)
         if not (np.array_equal(host, m["out"][a]) and np.array_equal(hstat, m["status"][a])):

@@ -18,13 +18,11 @@ import argparse
 import hashlib
 import json
 import os
-import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE.parent))
 
-from pysig import recording  # noqa: E402
+from pysig.weigh import recording  # noqa: E402
 from pysig.io import atomic_output  # noqa: E402
 
 SHARED = HERE.parent.parent / "shared" / "data" / "hx711_steps_10hz" / "hx711_steps_10hz.csv"

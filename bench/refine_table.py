@@ -6,7 +6,7 @@ it found, RMS before and after).
     python bench/refine_table.py --json bench/results/refine_table.json
 
 Clean data is measured on three generators (the rotating-field synthetic
-run of tests/refine_synth.py, the chamber simulator, the load-cell
+run of pysig/sim/refine_cases.py, the chamber simulator, the load-cell
 simulator), --clean-seeds seeds each; CI runs 20 seeds of the first only.
 """
 import argparse
@@ -18,15 +18,13 @@ import time
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(HERE, "..", "tests"))
 
-from pysig import effects as fx  # noqa: E402
+from pysig.refine import effects as fx  # noqa: E402
 from pysig.io import read_csv  # noqa: E402
-from pysig.refine import plateau_reference, refine  # noqa: E402
-from pysig.sim_chamber import ChamberParams, simulate as sim_chamber  # noqa: E402
-from pysig.sim_loadcell import simulate as sim_loadcell  # noqa: E402
-from refine_synth import chamber_run, fit_data  # noqa: E402
+from pysig.refine.loop import plateau_reference, refine  # noqa: E402
+from pysig.sim.chamber import ChamberParams, simulate as sim_chamber  # noqa: E402
+from pysig.sim.loadcell import simulate as sim_loadcell  # noqa: E402
+from pysig.sim.refine_cases import chamber_run, fit_data  # noqa: E402
 
 DATA = os.path.join(HERE, "..", "..", "shared", "data")
 LOADS = ((0.0, 0.0), (20.0, 5.0), (80.0, 10.0), (150.0, 20.0), (220.0, 10.0),

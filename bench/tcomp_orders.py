@@ -1,9 +1,9 @@
 """Per-order table of the temperature compensation (issue 3, the
 magnetometer paper's Table 3): for polynomial orders 1-6, the error after
-correction on held-out temperatures (leave-one-temperature-out, pysig.fit)
+correction on held-out temperatures (leave-one-temperature-out, pysig.tcomp.fit)
 as RMS, max |error| and variance, on
 
-* simulated chamber data (pysig.sim_chamber, the paper's 0/25/50/70 °C steps,
+* simulated chamber data (pysig.sim.chamber, the paper's 0/25/50/70 °C steps,
   several seeds; and a ramp profile), with the conditioning of the paper's
   normal equations next to the scaled fit and the measured fixed-point error;
 * every recording in ../shared/data that has a temperature column.
@@ -12,16 +12,16 @@ as RMS, max |error| and variance, on
 """
 import argparse
 import json
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
 
-from pysig import _tcomp, fit, lsq, quant, sim_chamber  # noqa: E402
+from pysig.tcomp import _tcomp, fit, quant
+from pysig import lsq
+from pysig.sim import chamber as sim_chamber  # noqa: E402
 from pysig.errors import PysigError  # noqa: E402
 from pysig.io import read_csv  # noqa: E402
 

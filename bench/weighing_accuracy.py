@@ -4,12 +4,12 @@ then measure settling after a load change (issue 4).
     python bench/weighing_accuracy.py --json weighing.json [--seeds 25]
 
 Setup (every figure is a median and a worst case over --seeds seeds):
-- Cell and ADC: pysig.sim_loadcell defaults (0.15 mV/kg, ADS1232-like
+- Cell and ADC: pysig.sim.loadcell defaults (0.15 mV/kg, ADS1232-like
   24-bit, PGA 128, Vref 5 V, 10 samples/s) with a terminal nonlinearity of
   0.02 % of full scale (a C3-class cell).
 - Calibration: standard masses 10, 15, ..., 50 kg, each the mean of 5 raw
   readings, taken in quiet conditions (ADC noise only, 0.02 uV rms), fitted
-  by pysig.weighing.calibrate (pysig.lsq): sensitivity and linearity error.
+  by pysig.weigh.scale.calibrate (pysig.lsq): sensitivity and linearity error.
 - Accuracy runs ("the factory floor"): each mass on the cell from power-up,
   60 s at 10 samples/s; 20 readings, one per second over the last 20 s; the
   error of a configuration is its largest |reading - mass| over the 20 (the
@@ -28,7 +28,7 @@ Setup (every figure is a median and a worst case over --seeds seeds):
   "adaptive_preset" and "recommended": Chain(preset="adaptive") and the
   package default Chain(preset="recommended") as shipped, given the sensor's
   noise R (the variance of one reading, measured on a still record at the
-  heaviest load, pysig.weighing.noise_sigma): their A0 / motion band are
+  heaviest load, pysig.weigh.scale.noise_sigma): their A0 / motion band are
   derived from R ("auto", pysig.reference.chain.PRESETS);
   "recommended_hx711_R": the default left with the R of the HX711 recording
   it was tuned on (24x below this simulator's noise: what happens when R is
@@ -46,17 +46,15 @@ Setup (every figure is a median and a worst case over --seeds seeds):
 """
 import argparse
 import json
-import sys
 from pathlib import Path
 
 import numpy as np
 from scipy.optimize import brentq
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from pysig import chain, weighing  # noqa: E402
+from pysig.weigh import chain, scale as weighing  # noqa: E402
 from pysig.io import atomic_output  # noqa: E402
-from pysig.sim_loadcell import LoadCellParams, simulate  # noqa: E402
+from pysig.sim.loadcell import LoadCellParams, simulate  # noqa: E402
 
 RATE = 10.0
 CAL_MASSES = np.arange(10.0, 50.1, 5.0)
@@ -85,7 +83,7 @@ PAPER_RUN_S = 930.0
 def motion_band_for(kg_still, window=12):
     """The motion band a commissioning engineer would set: BAND_SIGMAS standard
     deviations of the anti-pulse mean, from the per-sample noise of a still
-    record (robust, pysig.weighing.noise_sigma) over the window's N - 2 samples."""
+    record (robust, pysig.weigh.scale.noise_sigma) over the window's N - 2 samples."""
     return BAND_SIGMAS * weighing.noise_sigma(kg_still) / np.sqrt(window - 2)
 
 

@@ -10,8 +10,9 @@ from pathlib import Path
 
 import pytest
 
+from pysig.mcu.runner import CSRC, CSRC_INCLUDE, c_source, c_sources  # noqa: F401  (for the tests)
+
 ROOT = Path(__file__).resolve().parent.parent
-CSRC = ROOT / "csrc"
 SHARED_DATA = ROOT.parent / "shared" / "data"
 
 

@@ -6,13 +6,13 @@ import subprocess
 
 import pytest
 
-from conftest import CSRC, require_tool
+from conftest import CSRC, CSRC_INCLUDE, c_sources, require_tool
 
-SOURCES = sorted(CSRC.glob("*.c"))
+SOURCES = c_sources()
 ALLOWED_SYSTEM_HEADERS = {"stdint.h", "stddef.h", "stdbool.h"}
 
 
-@pytest.mark.parametrize("src", SOURCES + sorted(CSRC.glob("*.h")), ids=lambda p: p.name)
+@pytest.mark.parametrize("src", SOURCES + sorted(CSRC.rglob("*.h")), ids=lambda p: p.name)
 def test_only_freestanding_headers(src):
     system = set(re.findall(r'#\s*include\s*<([^>]+)>', src.read_text()))
     assert system <= ALLOWED_SYSTEM_HEADERS, f"{src.name} includes {system - ALLOWED_SYSTEM_HEADERS}"
@@ -30,7 +30,7 @@ def test_gcc_strict(src, real, tmp_path):
     gcc = require_tool("gcc")
     defs = ["-DSIG_REAL_DOUBLE"] if real == "double" else []
     _compile([gcc, "-std=c99", "-Wall", "-Wextra", "-Wconversion", "-Wshadow", "-pedantic",
-              "-Werror", "-O2", *defs, "-I", str(CSRC), "-c", str(src), "-o", str(tmp_path / "x.o")])
+              "-Werror", "-O2", *defs, "-I", str(CSRC_INCLUDE), "-c", str(src), "-o", str(tmp_path / "x.o")])
 
 
 @pytest.mark.parametrize("src", SOURCES, ids=lambda p: p.name)
@@ -38,11 +38,11 @@ def test_clang_msp430(src, tmp_path):
     clang = require_tool("clang-14", "clang")
     _compile([clang, "--target=msp430", "-std=c99", "-ffreestanding", "-Wall", "-Wextra",
               "-Wconversion", "-Wdouble-promotion", "-pedantic", "-Werror", "-O2",
-              "-I", str(CSRC), "-c", str(src), "-o", str(tmp_path / "x.o")])
+              "-I", str(CSRC_INCLUDE), "-c", str(src), "-o", str(tmp_path / "x.o")])
 
 
 @pytest.mark.parametrize("src", SOURCES, ids=lambda p: p.name)
 def test_sdcc_mcs51(src, tmp_path):
     sdcc = require_tool("sdcc")
-    _compile([sdcc, "-mmcs51", "--model-large", "--std-c99", "-I", str(CSRC),
+    _compile([sdcc, "-mmcs51", "--model-large", "--std-c99", "-I", str(CSRC_INCLUDE),
               "-c", str(src), "-o", str(tmp_path) + "/"])

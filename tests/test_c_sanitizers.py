@@ -8,7 +8,7 @@ import subprocess
 
 import pytest
 
-from conftest import CSRC, ROOT, require_tool
+from conftest import CSRC_INCLUDE, ROOT, c_sources, require_tool
 
 TESTS_C = ROOT / "tests" / "c"
 UNIT_TESTS = sorted(TESTS_C.glob("test_*.c"))
@@ -46,9 +46,9 @@ def core_objects(tmp_path_factory):
 
     def get(cc, real, sanitizer):
         if (cc, real, sanitizer) not in cache:
-            sources = sorted(CSRC.glob("*.c"))
+            sources = c_sources()
             objdir = tmp_path_factory.mktemp(f"core-{real}-{sanitizer}")
-            cmd = [cc, *FLAGS, *SANITIZERS[sanitizer], *DEFS[real], "-I", str(CSRC), "-c", *map(str, sources)]
+            cmd = [cc, *FLAGS, *SANITIZERS[sanitizer], *DEFS[real], "-I", str(CSRC_INCLUDE), "-c", *map(str, sources)]
             res = subprocess.run(cmd, capture_output=True, text=True, cwd=objdir)
             assert res.returncode == 0, " ".join(cmd) + "\n" + res.stdout + res.stderr
             cache[cc, real, sanitizer] = [objdir / (c.stem + ".o") for c in sources]
@@ -63,7 +63,7 @@ def test_c_unit_under_sanitizers(src, real, sanitizer, tmp_path, core_objects):
     else:
         cc = require_tool("gcc", "clang-14", "clang")
     exe = tmp_path / src.stem
-    cmd = [cc, *FLAGS, *SANITIZERS[sanitizer], *DEFS[real], "-I", str(CSRC), "-I", str(TESTS_C), str(src),
+    cmd = [cc, *FLAGS, *SANITIZERS[sanitizer], *DEFS[real], "-I", str(CSRC_INCLUDE), "-I", str(TESTS_C), str(src),
            *map(str, core_objects(cc, real, sanitizer)), "-lm", "-o", str(exe)]
     res = subprocess.run(cmd, capture_output=True, text=True)
     assert res.returncode == 0, " ".join(cmd) + "\n" + res.stdout + res.stderr

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
-from pysig import chain as C
+from pysig.weigh import chain as C
 from pysig.errors import NonFiniteError, RangeError
 from pysig.reference import chain as R
 

@@ -7,7 +7,7 @@ import subprocess
 
 import pytest
 
-from conftest import CSRC, require_tool
+from conftest import CSRC_INCLUDE, c_source, require_tool
 
 PROGRAM = r"""
 #include <stdio.h>
@@ -234,10 +234,10 @@ def run_chain_program(tmp_path, name, program, real, opt):
     src.write_text(program)
     exe = tmp_path / name
     defs = ["-DSIG_REAL_DOUBLE"] if real == "double" else []
-    sources = [str(CSRC / f"sig_{n}.c") for n in ("limit", "antipulse", "kalman1", "stable", "chain",
+    sources = [str(c_source(f"sig_{n}")) for n in ("limit", "antipulse", "kalman1", "stable", "chain",
                                                    "chain_batch")]
     build = subprocess.run([gcc, "-std=c99", opt, "-Wall", "-fsanitize=undefined,address",
-                            "-fno-sanitize-recover=all", *defs, "-I", str(CSRC), str(src), *sources,
+                            "-fno-sanitize-recover=all", *defs, "-I", str(CSRC_INCLUDE), str(src), *sources,
                             "-o", str(exe)], capture_output=True, text=True)
     assert build.returncode == 0, build.stderr
     run = subprocess.run([str(exe)], capture_output=True, text=True)

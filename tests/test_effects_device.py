@@ -1,13 +1,13 @@
 """csrc/sig_effects.c against its Python reference: fixed point bit for bit
 (hypothesis-generated inputs, state carried across calls split at random
 points), float forms within 1e-12 relative of the reference and of the
-float model refine fits with (pysig.effects)."""
+float model refine fits with (pysig.refine.effects)."""
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig import _effects as C
-from pysig import effects as fx
+from pysig.refine import _effects as C
+from pysig.refine import effects as fx
 from pysig.errors import NonFiniteError, RangeError
 from pysig.reference import effects as R
 

@@ -5,13 +5,13 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig import effects_device as ed
-from pysig import _effects as C
+from pysig.refine import device as ed
+from pysig.refine import _effects as C
 from pysig.errors import ModelFileError
-from pysig.quant import choose_scaling, quantize_axis
-from pysig.refine import refine
+from pysig.tcomp.quant import choose_scaling, quantize_axis
+from pysig.refine.loop import refine
 
-from refine_synth import chamber_run, fit_data
+from pysig.sim.refine_cases import chamber_run, fit_data
 
 
 @st.composite
@@ -74,7 +74,7 @@ def test_refined_model_on_device_follows_the_fit(refined_run):
 
 
 def test_refined_image_round_trip(refined_run):
-    from pysig._tcomp import TcompQ
+    from pysig.tcomp._tcomp import TcompQ
     _, res = refined_run
     dev = ed.device_model(res)
     img = ed.refined_image(dev, sequence=7)

@@ -7,8 +7,10 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import CSRC, require_tool
-from pysig import _tcomp, fit, lsq, model as tmodel, quant, sim_chamber
+from conftest import CSRC_INCLUDE, c_source, require_tool
+from pysig.tcomp import _tcomp, fit, model as tmodel, quant
+from pysig import lsq
+from pysig.sim import chamber as sim_chamber
 from pysig.cli import main
 from pysig.errors import InsufficientDataError, ModelFileError, NonFiniteError, RangeError
 from pysig.io import read_csv
@@ -104,7 +106,7 @@ def test_cli_round_trip_fit_export_image_c_evaluation(tmp_path, chamber_csv, cap
     m = tmodel.load(mj)
     c = _tcomp.TcompQ.from_image(img.read_bytes())
     assert c.fields() == m.fixed_fields()
-    assert c.no_overflow                       # pysig.quant models take the fast path
+    assert c.no_overflow                       # pysig.tcomp.quant models take the fast path
     d = read_csv(chamber_csv)
     t = quant.to_centi(d["temp"])
     x = np.column_stack([d[k] for k in "xyz"]).astype(np.int16)
@@ -154,8 +156,8 @@ int main(void) {
 }
 """ % ", ".join(map(str, temps)))
     exe = tmp_path / "prog"
-    srcs = [str(CSRC / f) for f in ("sig_tcomp.c", "sig_poly.c", "sig_image.c", "sig_crc16.c")]
-    res = subprocess.run([gcc, "-std=c99", "-Wall", "-Werror", "-DSIG_REAL_DOUBLE", "-I", str(CSRC),
+    srcs = [str(c_source(f)) for f in ("sig_tcomp", "sig_poly", "sig_image", "sig_crc16")]
+    res = subprocess.run([gcc, "-std=c99", "-Wall", "-Werror", "-DSIG_REAL_DOUBLE", "-I", str(CSRC_INCLUDE),
                           "-I", str(tmp_path), str(prog), *srcs, "-o", str(exe)], capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     lines = subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout.split("\n")

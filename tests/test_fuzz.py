@@ -21,7 +21,7 @@ import subprocess
 
 import pytest
 
-from conftest import CSRC, ROOT, require_tool
+from conftest import CSRC_INCLUDE, ROOT, c_sources, require_tool
 
 FUZZ_DIR = ROOT / "fuzz"
 BUILD_DIR = FUZZ_DIR / "build"
@@ -83,9 +83,9 @@ def core_objects(cc, flags, suffix):
         objdir = BUILD_DIR / f"core{suffix}"
         shutil.rmtree(objdir, ignore_errors=True)
         objdir.mkdir(parents=True)
-        sources = sorted(CSRC.glob("*.c"))
+        sources = c_sources()
         compile_flags = [f.replace("-fsanitize=fuzzer,", "-fsanitize=fuzzer-no-link,") for f in flags]
-        cmd = [cc, *compile_flags, "-std=c99", "-I", str(CSRC), "-c", *map(str, sources)]
+        cmd = [cc, *compile_flags, "-std=c99", "-I", str(CSRC_INCLUDE), "-c", *map(str, sources)]
         res = subprocess.run(cmd, capture_output=True, text=True, cwd=objdir)
         assert res.returncode == 0, " ".join(cmd) + "\n" + res.stdout + res.stderr
         _CORE_OBJECTS[suffix] = [objdir / (src.stem + ".o") for src in sources]
@@ -94,7 +94,7 @@ def core_objects(cc, flags, suffix):
 
 def build_harness(cc, harness, flags=SANITIZE, suffix=""):
     exe = BUILD_DIR / (harness.stem + suffix)
-    cmd = [cc, *flags, "-std=c99", "-I", str(CSRC), "-I", str(FUZZ_DIR),
+    cmd = [cc, *flags, "-std=c99", "-I", str(CSRC_INCLUDE), "-I", str(FUZZ_DIR),
            str(harness), *map(str, core_objects(cc, flags, suffix)), "-o", str(exe)]
     res = subprocess.run(cmd, capture_output=True, text=True)
     assert res.returncode == 0, " ".join(cmd) + "\n" + res.stdout + res.stderr

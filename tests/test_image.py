@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig import _tcomp, fit, image, sim_chamber
+from pysig.tcomp import _tcomp, fit
+from pysig.store import image
+from pysig.sim import chamber as sim_chamber
 from pysig.errors import ModelFileError
 from pysig.reference import image as ref
 
@@ -209,16 +211,16 @@ def test_offset_section_with_u_shift_above_15_is_refused():
 
 def test_python_constants_match_the_c_headers():
     import re
-    from conftest import CSRC
-    from pysig import quant
+    from conftest import CSRC_INCLUDE
+    from pysig.tcomp import quant
     from pysig.reference import tcomp as rtc
-    hdr = (CSRC / "sig_image.h").read_text()
+    hdr = (CSRC_INCLUDE / "sig_image.h").read_text()
     ids = {m.group(1): int(m.group(2), 0) for m in re.finditer(r"#define SIG_SECTION_(\w+)\s+(0x[0-9A-Fa-f]+|\d+)u", hdr)}
     for name, value in ids.items():
         if name != "INVALID":
             assert getattr(image, "SECTION_" + name) == value, name
     assert int(re.search(r"SIG_OFFSET_POLY_FIXED_LEN (\d+)u", hdr).group(1)) == image.OFFSET_POLY_FIXED_LEN
     assert int(re.search(r"SIG_IMAGE_HEADER_LEN\s+(\d+)u", hdr).group(1)) == ref.HEADER_LEN
-    tc = (CSRC / "sig_tcomp.h").read_text()
+    tc = (CSRC_INCLUDE / "sig_tcomp.h").read_text()
     assert int(re.search(r"SIG_TCOMP_T_PER_DEGC (\d+)", tc).group(1)) == quant.T_PER_DEGC == rtc.T_PER_DEGC
     assert int(re.search(r"SIG_TCOMP_MAX_Q\s+(\d+)u", tc).group(1)) == quant.MAX_Q == rtc.MAX_Q

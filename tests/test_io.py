@@ -98,7 +98,7 @@ def test_cli_imports_only_the_requested_command():
     import subprocess
     import sys
     code = ("import sys; from pysig import cli; cli.build_parser(cli._requested_command(['filter', 'x.csv']));"
-            "print('statsmodels' in sys.modules, 'pysig.commands.filter' in sys.modules)")
+            "print('statsmodels' in sys.modules, 'pysig.cli.commands.filter' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.split() == ["False", "True"]
 

@@ -7,16 +7,14 @@ fixed-point path.  Float path: the MCUs compute in IEEE single, the host in
 double, so outputs agree within a stated tolerance and the status flags are
 identical.  Both targets build with warnings as errors."""
 import struct
-import sys
 
 import numpy as np
 import pytest
 
 from conftest import ROOT, require_tool
 
-sys.path.insert(0, str(ROOT / "bench" / "mcu"))
-import runner  # noqa: E402
-import vectors  # noqa: E402
+from pysig.mcu import runner  # noqa: E402
+from pysig.mcu import vectors  # noqa: E402
 
 HARNESS = ROOT / "bench" / "mcu" / "harness"
 TCOMP_SRC = runner.csrc_sources("sig_tcomp")     # + sig_poly, sig_image, sig_crc16
@@ -78,7 +76,7 @@ def _tcomp_model_dicts(case):
     ids=["msp430-hw-o2", "msp430-hw-o5", "msp430-sw-o2", "mcs51-o2"])
 def test_tcomp_fixed_firmware_equals_host_and_reference(target, hwmult, order, tmp_path):
     _tools(target)
-    from pysig._tcomp import TcompQ
+    from pysig.tcomp._tcomp import TcompQ
     from pysig.reference import tcomp as ref
     case = vectors.tcomp_case(order)
     vectors.write_tcomp_header(case, tmp_path / "tcomp_vectors.h")
@@ -107,7 +105,7 @@ def test_tcomp_fixed_firmware_equals_host_and_reference(target, hwmult, order, t
 @pytest.mark.parametrize("target", ["msp430", "mcs51"])
 def test_tcomp_float_firmware_within_tolerance(target, tmp_path):
     _tools(target)
-    from pysig._tcomp import TcompF
+    from pysig.tcomp._tcomp import TcompF
     from pysig.reference import tcomp as ref
     case = vectors.tcomp_case(2)
     vectors.write_tcomp_header(case, tmp_path / "tcomp_vectors.h")
@@ -142,7 +140,7 @@ def _chain_reads(img, n, real):
                          ids=["msp430-hw", "msp430-sw", "mcs51"])
 def test_chain_fixed_firmware_equals_host_and_reference(target, hwmult, tmp_path):
     _tools(target)
-    from pysig.chain import Chain
+    from pysig.weigh.chain import Chain
     from pysig.reference.chain import Chain as RefChain
     case = vectors.chain_case()
     vectors.write_chain_header(case, tmp_path / "chain_vectors.h")
@@ -160,7 +158,7 @@ def test_chain_fixed_firmware_equals_host_and_reference(target, hwmult, tmp_path
 @pytest.mark.parametrize("target", ["msp430", "mcs51"])
 def test_chain_float_firmware_within_tolerance(target, tmp_path):
     _tools(target)
-    from pysig.chain import Chain
+    from pysig.weigh.chain import Chain
     case = vectors.chain_case()
     vectors.write_chain_header(case, tmp_path / "chain_vectors.h")
     img = (_build_chain_mcs51(["BENCH_FLOAT"], tmp_path) if target == "mcs51" else
@@ -179,7 +177,7 @@ def test_tcomp_fast_experiment_is_bit_exact(order, amplitude, tmp_path):
     """bench/mcu/experiments/tcomp_fast.c (the 'what it would take' figure of
     bench/mcu_cost.py) computes exactly sig_tcomp_apply_q."""
     _tools("msp430")
-    from pysig._tcomp import TcompQ
+    from pysig.tcomp._tcomp import TcompQ
     case = vectors.tcomp_case(order, seed=3, amplitude=amplitude)   # 2e4: q < 16 path
     vectors.write_tcomp_header(case, tmp_path / "tcomp_vectors.h")
     exp = ROOT / "bench" / "mcu" / "experiments"

@@ -8,20 +8,18 @@ outputs and statuses read back must equal the host C (Cython) and the Python
 spec bit for bit.  Vectors: bench/mcu/tcomp16_vectors.py (the int32 rows'
 cases of bench/mcu_cost.py, quantised to the compact form)."""
 import struct
-import sys
 
 import numpy as np
 import pytest
 
 from conftest import ROOT, require_tool
 
-sys.path.insert(0, str(ROOT / "bench" / "mcu"))
-import runner  # noqa: E402
-import tcomp16_vectors  # noqa: E402
+from pysig.mcu import runner  # noqa: E402
+from pysig.mcu import tcomp16_vectors  # noqa: E402
 
 HARNESS = ROOT / "bench" / "mcu" / "harness" / "tcomp16_harness.c"
 SRC = runner.csrc_sources("sig_tcomp16")
-PORT_DIR = ROOT / "bench" / "mcu" / "msp430"        # sig_port_msp430.h
+PORT_DIR = runner.PORT_MSP430        # sig_port_msp430.h
 INLINE_DEFINES = {"SIG_PORT_HEADER": '"sig_port_msp430.h"', "MPY_BASE": runner.MSP430_MPY_BASE_SIM}
 
 
@@ -39,7 +37,7 @@ def test_tcomp16_firmware_equals_host_and_reference(target, hwmult, order, tmp_p
     else:
         require_tool("sdcc")
         require_tool("s51")
-    from pysig._tcomp16 import Tcomp16Q
+    from pysig.tcomp._tcomp16 import Tcomp16Q
     from pysig.reference import tcomp16 as ref
     case = tcomp16_vectors.tcomp16_case(order)
     tcomp16_vectors.write_tcomp16_header(case, tmp_path / "tcomp16_vectors.h")

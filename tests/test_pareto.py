@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, require_shared_data, require_tool
+from pysig.mcu import runner
 
 KEYS = {"family", "size", "axis", "cv_rms", "fit_rms", "data_bytes", "text_bytes", "cycles",
         "energy_uj"}
@@ -100,7 +101,7 @@ def test_pwl_table_cycles_do_not_grow_with_size(bench, monkeypatch):
     monkeypatch.setattr(bench, "POLY_ORDERS", ())
     monkeypatch.setattr(bench, "PWL_KNOTS", (3, 100))
     temp = np.linspace(0.0, 50.0, 200)
-    from pysig.model_select import Curve
+    from pysig.tcomp.model_select import Curve
     curve = Curve(temp=temp, values=np.column_stack([np.sin(temp / 7.0) * 300 + k for k in range(3)]),
                   names=("a", "b", "c"))
     small = bench.mcu_pwl("test-pwl3", bench.pwl_models(curve, 3), 3)
@@ -124,7 +125,7 @@ def test_msp430_pwl_bit_exact_on_random_tables_all_branches(bench):
     statuses."""
     require_tool("clang-14", "clang")
     require_tool("mspdebug")
-    from pysig.pwl import plan_q16
+    from pysig.tcomp.pwl import plan_q16
     from pysig.reference import pwl as ref
     rng = np.random.default_rng(20261123)
     n = 11
@@ -141,7 +142,7 @@ def test_msp430_pwl_bit_exact_on_random_tables_all_branches(bench):
          f"#define PWL_RANGES {{{', '.join(arr([t_lo, t_hi]) for _ in range(3))}}}\n"
          f"#define PWL_RECIPS {{{', '.join(f'UINT32_C({recip})' for _ in range(3))}}}\n"
          f"#define PWL_VFS {arr(vfs)}\n#define TEMPS {arr(temps)}\n")
-    m = bench.measure_case("test-pwl-random", "harness_pwl.c", [ROOT / "csrc" / "sig_pwl.c"], h,
+    m = bench.measure_case("test-pwl-random", "harness_pwl.c", [runner.c_source("sig_pwl")], h,
                            "sig_pwl_eval_q16")
     for a in range(3):
         expect = [ref.eval_q16([int(v) for v in tables[a]], t_lo, t_hi, recip, vfs[a], int(t))
@@ -157,7 +158,7 @@ def test_msp430_pwl_float_within_tolerance(bench):
     clamping and NaN flagged the same."""
     require_tool("clang-14", "clang")
     require_tool("mspdebug")
-    import runner
+    from pysig.mcu import runner
     from pysig.reference import pwl as ref
     rng = np.random.default_rng(7)
     n = 13
@@ -177,7 +178,7 @@ def test_msp430_pwl_float_within_tolerance(bench):
         f"#define TABLE_F {{{', '.join(lit(v) for v in table)}}}\n"
         f"#define TEMPS_F {{{', '.join(lit(v) for v in temps)}}}\n"
         f"#define T_LO_F {lit(t_lo)}\n#define T_HI_F {lit(t_hi)}\n#define INV_STEP_F {lit(inv_step)}\n")
-    img = runner.build_msp430([ROOT / "csrc" / "sig_pwl_f.c"], bench.HERE / "harness_pwl_f.c",
+    img = runner.build_msp430([runner.c_source("sig_pwl_f")], bench.HERE / "harness_pwl_f.c",
                               include_dirs=[d], hwmult=True, name="test-pwl-float")
     res = runner.measure(img, funcs=["sig_pwl_eval_f"], regions=["bench_start:bench_stop"],
                          reads={"out": 4 * bench.N_TEMPS, "status": 2 * bench.N_TEMPS,

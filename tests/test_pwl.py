@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig import _pwl
+from pysig.tcomp import _pwl
 from pysig.errors import InsufficientDataError, NonFiniteError, RangeError
-from pysig.pwl import fit_pwl, fit_pwl_q16, hat_basis, plan_q16, quantize_values
+from pysig.tcomp.pwl import fit_pwl, fit_pwl_q16, hat_basis, plan_q16, quantize_values
 from pysig.reference import pwl as ref
 
 int16 = st.integers(-32768, 32767)

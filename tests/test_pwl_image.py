@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig import _pwl
+from pysig.tcomp import _pwl
 from pysig.errors import ModelFileError, RangeError
-from pysig.image import SECTION_OFFSET_POLY, SECTION_PWL_TABLE, build_image
-from pysig.pwl import (PwlQ16, fit_pwl_q16, parse_pwl_payload, plan_q16, pwl_image, pwl_payload,
+from pysig.store.image import SECTION_OFFSET_POLY, SECTION_PWL_TABLE, build_image
+from pysig.tcomp.pwl import (PwlQ16, fit_pwl_q16, parse_pwl_payload, plan_q16, pwl_image, pwl_payload,
                        read_pwl_image)
 
 

@@ -5,7 +5,8 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig import _tcomp, fit, quant, sim_chamber
+from pysig.tcomp import _tcomp, fit, quant
+from pysig.sim import chamber as sim_chamber
 from pysig.errors import RangeError
 from pysig.reference import tcomp as ref
 

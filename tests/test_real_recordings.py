@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from conftest import SHARED_DATA
-from pysig import chain, recording
+from pysig.weigh import chain, recording
 from pysig.errors import InputFileError
 from pysig.reference import chain as ref_chain
 

@@ -7,10 +7,10 @@ nonlinearity."""
 import numpy as np
 import pytest
 
-from pysig import effects as fx
-from pysig.refine import refine
-from pysig.sim_chamber import ChamberParams, simulate as simulate_chamber
-from pysig.sim_loadcell import simulate as simulate_loadcell
+from pysig.refine import effects as fx
+from pysig.refine.loop import refine
+from pysig.sim.chamber import ChamberParams, simulate as simulate_chamber
+from pysig.sim.loadcell import simulate as simulate_loadcell
 
 CHAMBER = dict(sample_rate_hz=0.2, noise_lsb=2.0, profile="ramp", ramp_cycles=2)
 LOADS = ((0.0, 0.0), (20.0, 5.0), (80.0, 10.0), (150.0, 20.0), (220.0, 10.0),

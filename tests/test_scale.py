@@ -1,4 +1,4 @@
-"""csrc/sig_scale.c (through pysig._scale) against pysig.reference.scale:
+"""csrc/sig_scale.c (through pysig.weigh._scale) against pysig.reference.scale:
 bit for bit on the fixed path, exactly on the host float path (double,
 same operations), and the fixed image within its quantisation bound of the
 float calibration."""
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig import _scale
+from pysig.weigh import _scale
 from pysig.errors import NonFiniteError, RangeError
 from pysig.reference import scale as ref
 

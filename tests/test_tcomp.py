@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig import _tcomp, quant
+from pysig.tcomp import _tcomp, quant
 from pysig.errors import NonFiniteError, RangeError
 from pysig.reference import tcomp as ref
 
@@ -53,7 +53,7 @@ def test_horner_f_matches_reference(coef, u):
 @st.composite
 def fixed_models(draw, small=False):
     """Valid fixed models; small=True keeps sum |c| + 2^(q-1) < 2^31, the
-    models pysig.quant makes, which take the unsaturated fast path in C."""
+    models pysig.tcomp.quant makes, which take the unsaturated fast path in C."""
     n_axes = draw(st.integers(1, 3))
     order = draw(st.integers(1, 8))
     t_lo = draw(st.integers(-32768, 32766))

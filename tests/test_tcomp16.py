@@ -1,13 +1,14 @@
 """Compact temperature compensation (csrc/sig_tcomp16.c) against its
 pure-Python spec (pysig/reference/tcomp16.py), bit for bit; the quantiser
-(pysig.quant.quantize_compact): its stated error is exact and honest, the
+(pysig.tcomp.quant.quantize_compact): its stated error is exact and honest, the
 outputs stay within 0.5 LSB + that error of the float64 model on the chamber
 simulator's data, and models it cannot hold are refused by name."""
 import numpy as np
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
-from pysig import _tcomp16, fit, quant, sim_chamber
+from pysig.tcomp import _tcomp16, fit, quant
+from pysig.sim import chamber as sim_chamber
 from pysig.errors import RangeError
 from pysig.reference import tcomp16 as ref
 

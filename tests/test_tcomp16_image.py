@@ -12,7 +12,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig import _tcomp16, fit, image, quant, sim_chamber
+from pysig.tcomp import _tcomp16, fit, quant
+from pysig.store import image
+from pysig.sim import chamber as sim_chamber
 from pysig.cli import main
 from pysig.errors import InputFileError, ModelFileError, RangeError
 from pysig.io import read_csv
@@ -180,7 +182,7 @@ def test_cli_export_compact_then_apply_runs_the_c_loader(tmp_path, fitted, capsy
     src, mj = fitted
     img, out = tmp_path / "m16.bin", tmp_path / "out.csv"
     assert main(["export", str(mj), "--format", "image", "--compact", "--sequence", "4", "-o", str(img)]) == 0
-    from pysig import model as tmodel
+    from pysig.tcomp import model as tmodel
     cm = quant.quantize_compact(tmodel.load(mj))
     assert img.read_bytes() == image.compact_image(cm, sequence=4)
     assert main(["apply", str(src), "--model", str(img), "--temp", "temp", "--columns", "x,y,z",

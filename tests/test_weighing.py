@@ -4,9 +4,10 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
-from pysig import _scale, lsq, weighing
+from pysig.weigh import _scale, scale as weighing
+from pysig import lsq
 from pysig.errors import InsufficientDataError, RangeError
-from pysig.sim_loadcell import LoadCellParams, simulate
+from pysig.sim.loadcell import LoadCellParams, simulate
 
 MASSES = np.arange(10.0, 50.1, 5.0)
 

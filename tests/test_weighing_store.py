@@ -6,13 +6,13 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import CSRC, require_tool
+from conftest import CSRC_INCLUDE, c_source, require_tool
 from pysig.cli import main
 from pysig.errors import ModelFileError
 from pysig.io import write_csv
 from pysig.reference import scale as ref
-from pysig.sim_loadcell import LoadCellParams, simulate
-from pysig.weighing import calibrate, load_calibration
+from pysig.sim.loadcell import LoadCellParams, simulate
+from pysig.weigh.scale import calibrate, load_calibration
 
 MASSES = np.arange(10.0, 50.1, 5.0)
 
@@ -85,7 +85,7 @@ int main(int argc, char **argv) {
 """)
     exe = tmp_path / "apply"
     res = subprocess.run([gcc, "-std=c99", "-Wall", "-Wextra", "-Werror", "-DSIG_REAL_DOUBLE",
-                          "-I", str(CSRC), "-I", str(tmp_path), str(prog), str(CSRC / "sig_scale.c"),
+                          "-I", str(CSRC_INCLUDE), "-I", str(tmp_path), str(prog), str(c_source("sig_scale")),
                           "-o", str(exe)], capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     codes = [int(c) for c in counts[::7]] + [-(1 << 23), (1 << 23) - 1, 0]

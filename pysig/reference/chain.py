@@ -48,7 +48,7 @@ LB_PER_KG = 1 / 0.45359237
 # A number given for A0 or motion_band (preset or override) is used as is, in
 # kg.  The firmware's C chain takes the resulting numbers (sig_chain_params_*).
 # R is the sensor's measured noise: a scale with another cell or ADC passes
-# its own R (for example from pysig.weighing.noise_sigma on a still record)
+# its own R (for example from pysig.weigh.scale.noise_sigma on a still record)
 # and the thresholds follow.
 PRESETS = {
     # The paper exactly: Q, R, x0, P0, N as published.  A0 is not given in

@@ -1,0 +1,170 @@
+"""`pysig refine IN.csv --time t --temp temp --columns x --ref ref --json R.json --plot DIR`
+
+Close the loop on measured data: fit the base model, find the effect the
+residual points at, add it while it significantly lowers the out-of-sample
+(time-blocked CV) error, and say what structure is left unexplained."""
+import json
+import os
+
+import numpy as np
+
+from ...refine import loop as rf
+from ...refine.effects import FitData
+from ...errors import InputFileError, InsufficientDataError, RangeError
+from ...io import atomic_output, check_time_column, read_csv
+
+
+def _names(values):
+    out = []
+    for v in values or []:
+        out.extend(x.strip() for x in v.split(",") if x.strip())
+    return out
+
+
+def register(sub):
+    p = sub.add_parser("refine", help="find the effect the model lacks, add it, report before/after",
+                       description=__doc__)
+    p.add_argument("inputs", nargs="+", metavar="IN.csv",
+                   help="CSV file(s); several files are joined end to end in time")
+    p.add_argument("--time", help="time column (s); default: the sample index")
+    p.add_argument("--temp", help="temperature column (omit for weighing)")
+    p.add_argument("--columns", nargs="+", required=True,
+                   help="measured column(s), e.g. x or x,y,z")
+    p.add_argument("--ref", nargs="+",
+                   help="true value column(s), one per measured column (or one for all); "
+                        "without it: the reading at T0 (constant field), or for weighing "
+                        "without --temp the held load levels")
+    p.add_argument("--folds", type=int, default=rf.DEFAULT_FOLDS, help="time blocks for CV")
+    p.add_argument("--alpha", type=float, default=rf.DEFAULT_ALPHA,
+                   help="family-wise level of the stopping test")
+    p.add_argument("--min-gain", type=float, default=rf.DEFAULT_MIN_GAIN,
+                   help="smallest relative CV RMS drop that counts")
+    p.add_argument("--json", metavar="REPORT.json", help="write the report as JSON")
+    p.add_argument("--plot", metavar="DIR", help="write residual PNGs into DIR")
+    p.set_defaults(func=run)
+
+
+def load(args):
+    """Read and join the inputs: dict column -> array, plus the time axis."""
+    measured = _names(args.columns)
+    refs = _names(args.ref)
+    if refs and len(refs) not in (1, len(measured)):
+        raise InputFileError(f"refine: {len(refs)} --ref columns for {len(measured)} measured columns")
+    wanted = list(dict.fromkeys(measured + refs + [c for c in (args.time, args.temp) if c]))
+    parts, t_all, t_end = [], [], None
+    for path in args.inputs:
+        cols = read_csv(path, wanted)
+        n = next(iter(cols.values())).size
+        if args.time:
+            t = cols[args.time]
+            check_time_column(path, args.time, t)
+        else:
+            t = np.arange(n, dtype=float)
+        if t_end is not None:          # join end to end, one median interval apart
+            dt = float(np.median(np.diff(t))) if n > 1 else 1.0
+            t = t - t[0] + t_end + dt
+        t_end = float(t[-1])
+        parts.append(cols)
+        t_all.append(t)
+    joined = {k: np.concatenate([c[k] for c in parts]) for k in wanted}
+    return joined, np.concatenate(t_all), measured, refs
+
+
+def build_data(joined, t, measured, refs, i, temp, inputs):
+    name = measured[i]
+    ref_name = (refs[i] if len(refs) == len(measured) else refs[0]) if refs else None
+    labels = {"column": name, "inputs": inputs}
+    r, mask, ref_from_y = None, None, False
+    if ref_name:
+        r = joined[ref_name]
+        labels["reference"] = f"column {ref_name}"
+    elif temp is None:
+        r, mask, n_plateaus = rf.plateau_reference(joined[name], t)
+        ref_from_y = True
+        labels["reference"] = f"held load levels ({n_plateaus} plateaus found in {name})"
+    else:
+        labels["reference"] = "constant field (the reading at T0)"
+    others = {}
+    if refs and len(refs) == len(measured):
+        others = {refs[j]: joined[refs[j]] for j in range(len(refs)) if j != i}
+    return FitData(y=joined[name], t=t, T=joined[temp] if temp else None, r=r, others=others,
+                   mask=mask, labels=labels, ref_from_y=ref_from_y)
+
+
+def _fmt_params(params):
+    items = []
+    for k, v in params.items():
+        if k == "coefficients":
+            continue
+        items.append(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}")
+    return " ".join(items) or "-"
+
+
+def format_table(name, result):
+    rep = result.report()
+    lines = [f"column {name}: {rep['n_samples']} samples, reference: {rep['base_model']['reference']}, "
+             f"offset order {rep['base_model']['offset_order']}",
+             f"  {'step':<5}{'effect':<14}{'params':<24}{'rms before':>11}{'rms after':>11}"
+             f"{'cv before':>11}{'cv after':>11}{'p':>10}"]
+    lines.append(f"  {'base':<5}{'-':<14}{'-':<24}{'':>11}{rep['base_rms']:>11.4g}"
+                 f"{'':>11}{rep['base_cv_rms']:>11.4g}{'':>10}")
+    for k, s in enumerate(rep["steps"], 1):
+        lines.append(f"  {k:<5}{s['effect']:<14}{_fmt_params(s['params']):<24}{s['rms_before']:>11.4g}"
+                     f"{s['rms_after']:>11.4g}{s['cv_rms_before']:>11.4g}{s['cv_rms_after']:>11.4g}"
+                     f"{s['p_value']:>10.2g}")
+    ratio = rep["base_rms"] / rep["final_rms"] if rep["final_rms"] > 0 else float("inf")
+    lines.append(f"  RMS {rep['base_rms']:.4g} -> {rep['final_rms']:.4g} ({ratio:.2f}x); "
+                 f"CV RMS {rep['base_cv_rms']:.4g} -> {rep['final_cv_rms']:.4g}")
+    for r in rep["not_added"]:
+        lines.append(f"  not added: {r['effect']} (CV gain {100 * r['cv_gain']:.1f} %, "
+                     f"p = {r['p_value']:.2g}, needs < {r['p_threshold']:.2g})")
+    for r in {r["effect"]: r for r in rep["at_search_edge"]}.values():     # one line per effect
+        (pname, value), = [(k, v) for k, v in r.items() if k not in ("effect", "variant", "search_top")]
+        lines.append(f"  not tried: {r['effect']} ({pname} = {value:.4g} at the top of its search "
+                     f"range: not resolved by this record)")
+    u = rep["unexplained"]
+    if u["unexplained"]:
+        lines.append(f"  unexplained: {u['seen']}")
+    else:
+        lines.append(f"  unexplained: no (Ljung-Box p = {u['ljung_box_p']:.2g}, lag-1 r = "
+                     f"{u['acf_lag1']:.2f}, time blocks {100 * u['time_blocks_r2']:.1f} % of variance)")
+    return "\n".join(lines)
+
+
+def run(args):
+    if args.folds < 2:
+        raise InsufficientDataError(f"refine: --folds must be at least 2, got {args.folds}")
+    if not 0 < args.alpha < 1:                  # also refuses NaN
+        raise RangeError(f"refine: --alpha must be in (0, 1), got {args.alpha}")
+    joined, t, measured, refs = load(args)
+    opts = rf.Options(folds=args.folds, alpha=args.alpha, min_gain=args.min_gain)
+    reports, results = {}, {}
+    for i, name in enumerate(measured):
+        data = build_data(joined, t, measured, refs, i, args.temp, args.inputs)
+        res = rf.refine(data, opts)
+        results[name] = res
+        reports[name] = res.report()
+        print(format_table(name, res))
+    if args.plot:
+        for name, res in results.items():
+            from ...refine.plots import write_plots
+            prefix = f"{name}_" if len(measured) > 1 else ""
+            for path in write_plots(res, args.plot, prefix):
+                print(f"wrote {path}")
+    if args.json:
+        doc = reports[measured[0]] if len(measured) == 1 else {"columns": reports}
+        doc = dict(doc)
+        doc["stopping_test"] = rf.STOP_TEST.format(tb=opts.test_blocks, a=opts.alpha, g=opts.min_gain)
+        with atomic_output(args.json) as fh:
+            json.dump(doc, fh, indent=2, default=_json_default)
+            fh.write("\n")
+        print(f"wrote {os.path.abspath(args.json)}")
+    return 0
+
+
+def _json_default(o):
+    if isinstance(o, (np.floating, np.integer)):
+        return o.item()
+    if isinstance(o, np.bool_):
+        return bool(o)
+    raise TypeError(f"not JSON serialisable: {type(o).__name__}")

@@ -1,0 +1,66 @@
+"""Small synthetic chamber runs for the refine tests: a temperature profile
+with ramps at different rates and holds (so a lag, which decays during a
+hold, can be told from hysteresis, which stays), a rotating reference field,
+and one injected effect the fit is not told about.  Written here, in plain
+numpy, so the loop's tests do not depend on the simulators' defaults; the
+simulator-based tests are in test_refine_sim.py."""
+import numpy as np
+
+from pysig.refine import effects as fx
+
+# (duration s, target °C): ramps at 0.1, 0.05, 0.2 and 0.1 °C/s between holds
+PROFILE = ((300, 0.0), (500, 50.0), (300, 50.0), (800, 10.0), (300, 10.0),
+           (150, 40.0), (300, 40.0), (400, 0.0), (250, 0.0))
+EFFECTS = ("gain_drift", "thermal_lag", "hysteresis", "nonlinearity", "cross_axis")
+
+
+def temperature_profile(dt=1.0, start=0.0):
+    t_knots, T_knots = [0.0], [start]
+    for dur, target in PROFILE:
+        t_knots.append(t_knots[-1] + dur)
+        T_knots.append(target)
+    t = np.arange(0.0, t_knots[-1], dt)
+    return t, np.interp(t, t_knots, T_knots)
+
+
+def chamber_run(effect=None, seed=0, noise=1.0, t_noise=0.02, dt=2.0, constant_field=False):
+    """dict t, temp, x, ref, ref_y, ref_z; `effect`: one name or a tuple of
+    names, None for clean data, "step" for a step in time outside the library."""
+    rng = np.random.default_rng(seed)
+    names = (effect,) if isinstance(effect, str) or effect is None else tuple(effect)
+    t, T_true = temperature_profile(dt)
+    n = t.size
+    if constant_field:
+        r = np.full(n, 250.0)
+    else:
+        r = 300.0 * np.sin(2 * np.pi * t / 97.0)
+    ry = 300.0 * np.cos(2 * np.pi * t / 97.0)
+    rz = 200.0 * np.sin(2 * np.pi * t / 331.0 + 0.4)
+    T_sensor = T_true
+    if "thermal_lag" in names:
+        T_sensor = fx.first_order_lag(T_true, fx.lag_alpha(90.0, dt))
+    offset = 30.0 + 1.5 * (T_sensor - 25.0) + 0.004 * (T_sensor - 25.0) ** 2
+    y = 1.03 * r + offset
+    if "gain_drift" in names:
+        y += r * 0.0015 * (T_sensor - 25.0)
+    if "hysteresis" in names:
+        w = 0.8
+        y += 5.0 * (T_sensor - fx.play_operator(T_sensor, w)) / w
+    if "nonlinearity" in names:
+        y += 2e-4 * r ** 2
+    if "cross_axis" in names:
+        y += 0.03 * ry - 0.02 * rz
+    if "step" in names:
+        y += np.where(t > t[-1] * 0.55, 8.0, 0.0)
+    unknown = set(names) - set(EFFECTS) - {None, "step"}
+    if unknown:
+        raise ValueError(unknown)
+    y = y + noise * rng.standard_normal(n)
+    temp = T_true + t_noise * rng.standard_normal(n)
+    return {"t": t, "temp": temp, "x": y, "ref": r, "ref_y": ry, "ref_z": rz}
+
+
+def fit_data(run, use_ref=True, others=("ref_y", "ref_z")):
+    return fx.FitData(y=run["x"], t=run["t"], T=run["temp"],
+                      r=run["ref"] if use_ref else None,
+                      others={k: run[k] for k in others})

@@ -1,0 +1,127 @@
+"""Coefficient image for non-volatile memory (format: csrc/sig_image.h),
+written and read from Python.
+
+Generic part: `build_image(sections, sequence)` and `read_image(data)` work
+on any list of (type id, payload bytes), so other modules add their own
+section types (ids in SECTION_*) without touching this file's reader.
+Specific part: the offset-polynomial section of the temperature model
+(`offset_poly_payload`, `parse_offset_poly`, `model_image`) and the compact
+section of pysig.tcomp.quant.CompactModel (`compact_poly_payload`,
+`parse_compact_poly`, `compact_image`; C loader sig_tcomp16_load_image)."""
+import struct
+
+from ..errors import ModelFileError, RangeError
+from ..reference import image as ref
+from ..reference import tcomp16 as ref16
+
+SECTION_OFFSET_POLY = 1
+SECTION_GAIN_POLY = 2
+SECTION_THERMAL_LAG = 3
+SECTION_HYSTERESIS = 4
+SECTION_CREEP = 5
+SECTION_PWL_TABLE = 6
+SECTION_LINEAR_SCALE = 7
+SECTION_COMPACT_POLY = ref.SECTION_COMPACT_POLY
+SECTION_EXPERIMENTAL = 0x8000
+OFFSET_POLY_FIXED_LEN = 14
+COMPACT_POLY_FIXED_LEN = ref.COMPACT_POLY_FIXED_LEN
+
+_STATUS_TEXT = {ref.SIG_ERR_FORMAT: "bad magic, version, length or section layout",
+                ref.SIG_ERR_CRC: "CRC mismatch (corrupt or partly written)"}
+
+
+def build_image(sections, sequence=1):
+    """Image bytes from [(type, payload)]; ValueError for a bad type or size."""
+    sections = [(int(t), bytes(p)) for t, p in sections]
+    for t, p in sections:
+        if not 1 <= t <= 0xFFFF:
+            raise ValueError(f"section type {t} outside 1..65535")
+        if len(p) > 0xFFFF:
+            raise ValueError(f"section {t}: payload of {len(p)} bytes exceeds 65535")
+    size = ref.MIN_LEN + sum(ref.SECTION_HDR_LEN + len(p) for _, p in sections)
+    if size > ref.MAX_LEN:
+        raise ValueError(f"image of {size} bytes exceeds {ref.MAX_LEN}")
+    if not 0 <= int(sequence) <= 0xFFFFFFFF:
+        raise ValueError(f"sequence {sequence} outside uint32")
+    return ref.build(sections, int(sequence))
+
+
+def read_image(data, where="image"):
+    """(sequence, [(type, payload)]) of a valid image; ModelFileError otherwise."""
+    data = bytes(data)
+    st = ref.validate(data)
+    if st != ref.SIG_OK:
+        raise ModelFileError(f"{where}: corrupt coefficient image: {_STATUS_TEXT[st]}")
+    return ref.sequence(data), ref.sections(data)
+
+
+def find_section(data, typ, where="image"):
+    _, sections = read_image(data, where)
+    for t, p in sections:
+        if t == typ:
+            return p
+    raise ModelFileError(f"{where}: no section of type {typ} in the image")
+
+
+def offset_poly_payload(model):
+    """Payload of SECTION_OFFSET_POLY for a TcompModel (fixed-point form)."""
+    f = model.fixed_fields()
+    out = struct.pack("<BBBBhhhhh", len(model.axes), model.order, f["u_shift"], 0,
+                      f["t_lo"], f["t_hi"], f["t_center"], f["t0"], f["u_mul"])
+    for q, coef in zip(f["q"], f["coef"]):
+        out += struct.pack("<B", q) + struct.pack(f"<{len(coef)}i", *coef)
+    return out
+
+
+def parse_offset_poly(payload, where="image"):
+    """Fields of sig_tcomp_q from a SECTION_OFFSET_POLY payload (the checks
+    of sig_tcomp_load_image)."""
+    if len(payload) < OFFSET_POLY_FIXED_LEN:
+        raise ModelFileError(f"{where}: offset section of {len(payload)} bytes is too short")
+    n_axes, order, u_shift, reserved, t_lo, t_hi, t_center, t0, u_mul = \
+        struct.unpack_from("<BBBBhhhhh", payload)
+    if not (1 <= n_axes <= 3 and 1 <= order <= 8 and reserved == 0):
+        raise ModelFileError(f"{where}: offset section: {n_axes} axes, order {order}, reserved {reserved}")
+    want = OFFSET_POLY_FIXED_LEN + n_axes * (1 + 4 * (order + 1))
+    if len(payload) != want:
+        raise ModelFileError(f"{where}: offset section is {len(payload)} bytes, expected {want}")
+    pos, q, coef = OFFSET_POLY_FIXED_LEN, [], []
+    for _ in range(n_axes):
+        q.append(payload[pos])
+        coef.append(list(struct.unpack_from(f"<{order + 1}i", payload, pos + 1)))
+        pos += 1 + 4 * (order + 1)
+    return {"n_axes": n_axes, "order": order, "u_shift": u_shift, "t_lo": t_lo, "t_hi": t_hi,
+            "t_center": t_center, "t0": t0, "u_mul": u_mul, "q": q, "coef": coef}
+
+
+def model_image(model, sequence=1, extra_sections=()):
+    """The NVM image of a model: its offset section plus any others."""
+    return build_image([(SECTION_OFFSET_POLY, offset_poly_payload(model)), *extra_sections], sequence)
+
+
+def compact_poly_payload(compact):
+    """Payload of SECTION_COMPACT_POLY for a pysig.tcomp.quant.CompactModel (or the
+    dict of its fields()); RangeError when sig_tcomp16_init would refuse it."""
+    fields = compact.fields() if hasattr(compact, "fields") else compact
+    if not ref16.valid(fields):
+        raise RangeError("compact section: the fields are not a model sig_tcomp16_init accepts "
+                         "(axes 1..3, order 1..5, range, w_shift or the no-overflow bound)")
+    return ref.compact_payload(fields)
+
+
+def parse_compact_poly(data, where="image"):
+    """Fields of sig_tcomp16_init (top, add, t_lo, t_hi, w_shift) from the
+    compact section of image bytes `data`: the checks of
+    sig_tcomp16_load_image, as a ModelFileError naming what is wrong."""
+    payload = find_section(data, SECTION_COMPACT_POLY, where)
+    st, fields = ref.load_compact(data)
+    if st != ref.SIG_OK:
+        raise ModelFileError(f"{where}: compact section of {len(payload)} bytes is malformed or holds "
+                             f"a model sig_tcomp16_init rejects (counts, length, reserved byte, "
+                             f"range, w_shift or the no-overflow bound)")
+    return fields
+
+
+def compact_image(compact, sequence=1, extra_sections=()):
+    """The NVM image of a CompactModel: its compact section plus any others."""
+    return build_image([(SECTION_COMPACT_POLY, compact_poly_payload(compact)), *extra_sections], sequence)

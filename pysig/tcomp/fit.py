@@ -1,0 +1,249 @@
+"""Training of the temperature-compensation model (issue 3): per axis, the
+least-squares polynomial f(T) of order 1-8 (pysig.lsq, centred and scaled
+temperature) and the correction delta(T) = f(T) - f(T0); order selection by
+leave-one-temperature-out cross-validation, reported per order like the
+magnetometer paper's Table 3; quantisation for the MCU (pysig.tcomp.quant).
+
+What counts as "a temperature".  Chamber logs hold many samples per plateau
+at slightly different readings (the BMI270 recording: 3255 samples between
+12.98 and 13.30 °C), so distinct float values say nothing.  Temperatures are
+grouped instead (`temperature_groups`):
+  1. sort them and split wherever two neighbours are more than `gap` apart
+     (default 0.15 °C: above two steps of a 1/16 °C sensor, below the
+     0.188 °C bin spacing of the MPU-6000 table);
+  2. cut any cluster wider than `max_span` (default 5 °C: a ramp) into equal
+     pieces no wider than that;
+  3. a piece counts as a distinct temperature only if it holds at least
+     `min_share` (default 5 %) of the samples of the fullest piece: a few
+     start-up samples far from the plateau (10 of the BMI270 hot file's 6533,
+     at 49.3 °C) do not make a temperature the fit can rely on.
+The groups are also the folds of the cross-validation.  An order n fit needs
+n + 1 distinct temperatures."""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import lsq
+from . import quant
+from ..errors import InsufficientDataError, NonFiniteError, RangeError, SaturationError
+from .model import TcompModel
+
+MAX_FIT_ORDER = 8
+GAP_C = 0.15
+MAX_SPAN_C = 5.0
+MIN_SHARE = 0.05
+# Readings are int16 sensor codes (the C model corrects int16): a reading at a
+# rail means the sensor clipped and its true value is unknown.
+INT16_RAILS = (-32768.0, 32767.0)
+
+
+@dataclass(frozen=True)
+class TemperatureGroups:
+    labels: np.ndarray       # per sample: group index, -1 for samples in a piece that does not count
+    ranges: list             # per counted group: (lo, hi, samples)
+
+    @property
+    def count(self):
+        return len(self.ranges)
+
+    def describe(self):
+        return ", ".join(f"{lo:.2f}-{hi:.2f} °C ({n} samples)" if hi > lo else f"{lo:.2f} °C ({n} samples)"
+                         for lo, hi, n in self.ranges)
+
+
+def temperature_groups(temp, gap=GAP_C, max_span=MAX_SPAN_C, min_share=MIN_SHARE):
+    temp = np.asarray(temp, dtype=float)
+    order = np.argsort(temp, kind="stable")
+    st = temp[order]
+    cuts = np.flatnonzero(np.diff(st) > gap) + 1
+    pieces = []
+    for chunk in np.split(np.arange(st.size), cuts):
+        lo, hi = st[chunk[0]], st[chunk[-1]]
+        n_pieces = max(1, int(math.ceil((hi - lo) / max_span - 1e-9)))
+        if n_pieces == 1:
+            pieces.append(chunk)
+        else:
+            edges = np.linspace(lo, hi, n_pieces + 1)[1:-1]
+            which = np.searchsorted(edges, st[chunk], side="right")
+            pieces.extend(chunk[which == k] for k in range(n_pieces) if np.any(which == k))
+    biggest = max(len(p) for p in pieces)
+    labels = np.full(temp.size, -1, dtype=int)
+    ranges = []
+    for p in pieces:
+        if len(p) >= min_share * biggest:
+            labels[order[p]] = len(ranges)
+            ranges.append((float(st[p[0]]), float(st[p[-1]]), int(len(p))))
+    return TemperatureGroups(labels, ranges)
+
+
+def first_saturated(y):
+    """Index of the first reading at an int16 rail, or None."""
+    hit = np.flatnonzero((y == INT16_RAILS[0]) | (y == INT16_RAILS[1]))
+    return int(hit[0]) if hit.size else None
+
+
+def saturated_reading(value):
+    return f"{value:.0f} is the int16 rail: the reading saturated (its true value is unknown)"
+
+
+def check_inputs(temp, columns, what="fit"):
+    """Finite values off the int16 rails, equal lengths; returns (temp, {name: array})."""
+    temp = np.asarray(temp, dtype=float).ravel()
+    bad = np.flatnonzero(~np.isfinite(temp))
+    if bad.size:
+        raise NonFiniteError(f"{what}: temperature: non-finite value {temp[bad[0]]} at index {int(bad[0])}")
+    out = {}
+    for name, y in columns.items():
+        y = np.asarray(y, dtype=float).ravel()
+        if y.shape != temp.shape:
+            raise ValueError(f"{what}: column '{name}' has {y.size} values, temperature {temp.size}")
+        bad = np.flatnonzero(~np.isfinite(y))
+        if bad.size:
+            raise NonFiniteError(f"{what}: column '{name}': non-finite value {y[bad[0]]} at index {int(bad[0])}")
+        i = first_saturated(y)
+        if i is not None:
+            raise SaturationError(f"{what}: column '{name}': {saturated_reading(y[i])} at index {i}")
+        out[name] = y
+    if not 1 <= len(out) <= 3:
+        raise ValueError(f"{what}: 1 to 3 columns, got {len(out)}")
+    return temp, out
+
+
+def require_temperatures(groups, order, temp, what="fit"):
+    if np.ptp(temp) == 0:
+        raise InsufficientDataError(
+            f"{what}: constant temperature ({temp[0]:.3f} °C in all {temp.size} samples): "
+            f"a temperature model needs at least 2 distinct temperatures")
+    if groups.count < order + 1:
+        raise InsufficientDataError(
+            f"{what}: order {order} needs at least {order + 1} distinct temperatures, "
+            f"the data has {groups.count} ({groups.describe()}); "
+            f"the highest order it supports is {groups.count - 1}")
+
+
+def fit_tcomp(temp, columns, order=2, t0=25.0, temp_column="temp", groups=None, what="fit"):
+    """Fit the compensation model. `columns`: dict name -> readings (1..3).
+    `order` an int 1..8 or "auto" (cross-validated, see `select_order`)."""
+    temp, columns = check_inputs(temp, columns, what)
+    if groups is None:
+        groups = temperature_groups(temp)
+    cv = None
+    if order == "auto":
+        require_temperatures(groups, 1, temp, what)
+        cv = cross_validate(temp, columns, groups=groups)
+        order = select_order(cv)
+    if not (isinstance(order, (int, np.integer)) and 1 <= order <= MAX_FIT_ORDER):
+        raise RangeError(f"{what}: order must be 1..{MAX_FIT_ORDER} or 'auto', got {order!r}")
+    order = int(order)
+    require_temperatures(groups, order, temp, what)
+    t_centi = quant.to_centi(temp, what)
+    scaling = quant.choose_scaling(int(t_centi.min()), int(t_centi.max()))
+    lo, hi = scaling.t_lo / quant.T_PER_DEGC, scaling.t_hi / quant.T_PER_DEGC
+    if not lo <= t0 <= hi:
+        raise RangeError(f"{what}: reference temperature T0 = {t0} °C is outside the calibrated "
+                         f"range {lo:.2f}..{hi:.2f} °C")
+    u0 = (t0 - scaling.center_c) / scaling.scale_c
+    coef, f_t0, q, coef_q, bound, per_axis = [], [], [], [], [], {}
+    for name, y in columns.items():
+        pf = lsq.fit_poly(temp, y, order, center=scaling.center_c, scale=scaling.scale_c,
+                          what=f"{what} column '{name}'")
+        ft0 = float(np.polynomial.polynomial.polyval(u0, pf.coef))
+        c = np.array(pf.coef, dtype=float)
+        c[0] -= ft0
+        qa = quant.quantize_axis(c, what=f"{what} column '{name}'")
+        if qa.error_bound_lsb > quant.MAX_ERROR_LSB:
+            raise RangeError(
+                f"{what} column '{name}': the fixed-point correction could be off by up to "
+                f"{qa.error_bound_lsb:.2f} LSB (> {quant.MAX_ERROR_LSB}): the drift is too steep for "
+                f"a Q15 temperature (swing {float(np.sum(np.abs(c[1:]))):.0f} LSB over the range)")
+        coef.append(c)
+        f_t0.append(ft0)
+        q.append(qa.q)
+        coef_q.append(qa.coef)
+        bound.append(qa.error_bound_lsb)
+        per_axis[name] = {"rms": pf.rms, "cond": pf.cond, "q": qa.q,
+                          "error_bound_lsb": qa.error_bound_lsb}
+    report = {"groups": [list(r) for r in groups.ranges], "per_axis": per_axis,
+              "samples": int(temp.size)}
+    if cv is not None:
+        report["cv"] = cv
+        report["order_rule"] = "smallest order whose pooled held-out variance is within 5 % of the best"
+    return TcompModel(axes=list(columns), order=order, t0=float(t0), scaling=scaling, coef=coef,
+                      f_t0=f_t0, q=q, coef_q=coef_q, error_bound_lsb=bound,
+                      temp_column=temp_column, report=report)
+
+
+def cross_validate(temp, columns, orders=range(1, MAX_FIT_ORDER + 1), groups=None):
+    """Leave-one-temperature-out: for each counted group, fit on the others
+    and measure the residual y - f(T) on the held-out group (the polynomial
+    itself, not clamped: CV judges the curve).  Per order: RMS, max |error|
+    and variance of the held-out residuals per axis and pooled; "raw" is the
+    error without correction (y minus its mean).  Orders whose training folds
+    would have fewer than order + 1 temperatures are reported as refused."""
+    temp, columns = check_inputs(temp, columns, "cross-validation")
+    if groups is None:
+        groups = temperature_groups(temp)
+    rows = [{"order": 0, "label": "raw", **_stats({n: y - y.mean() for n, y in columns.items()})}]
+    for order in orders:
+        if groups.count - 1 < order + 1:
+            rows.append({"order": order, "label": f"order {order}", "refused":
+                         f"needs {order + 1} training temperatures, leave-one-out leaves "
+                         f"{groups.count - 1} of {groups.count}"})
+            continue
+        resid = {n: np.full(temp.size, np.nan) for n in columns}
+        for g in range(groups.count):
+            test = groups.labels == g
+            train = ~test
+            for name, y in columns.items():
+                pf = lsq.fit_poly(temp[train], y[train], order, what=f"CV order {order}")
+                resid[name][test] = y[test] - pf(temp[test])
+        keep = groups.labels >= 0
+        rows.append({"order": order, "label": f"order {order}",
+                     **_stats({n: r[keep] for n, r in resid.items()})})
+    return rows
+
+
+def _stats(resid):
+    per = {n: {"rms": float(np.sqrt(np.mean(r ** 2))), "max": float(np.max(np.abs(r))),
+               "var": float(np.var(r))} for n, r in resid.items()}
+    allr = np.concatenate(list(resid.values()))
+    return {"per_axis": per, "rms": float(np.sqrt(np.mean(allr ** 2))),
+            "max": float(np.max(np.abs(allr))), "var": float(np.mean([p["var"] for p in per.values()]))}
+
+
+def select_order(cv, tolerance=0.05):
+    """Smallest order whose pooled held-out variance is within `tolerance`
+    of the best cross-validated order."""
+    ok = [r for r in cv if r["order"] >= 1 and "refused" not in r]
+    if not ok:
+        raise InsufficientDataError("order selection: no order could be cross-validated "
+                                    "(needs at least 3 distinct temperatures)")
+    best = min(r["var"] for r in ok)
+    return min(r["order"] for r in ok if r["var"] <= best * (1 + tolerance))
+
+
+def format_cv_table(cv, unit="LSB"):
+    lines = [f"{'order':>7} {'RMS':>12} {'max':>12} {'variance':>14}   ({unit}, held-out temperatures)"]
+    for r in cv:
+        if "refused" in r:
+            lines.append(f"{r['label']:>7}   refused: {r['refused']}")
+        else:
+            lines.append(f"{r['label']:>7} {r['rms']:12.4g} {r['max']:12.4g} {r['var']:14.4g}")
+    return "\n".join(lines)
+
+
+def group_bias_report(model, temp, columns, groups=None):
+    """Mean reading per temperature group before and after correction (the
+    float path): how the bias moves with temperature, and what is left."""
+    temp, columns = check_inputs(temp, columns, "bias report")
+    if groups is None:
+        groups = temperature_groups(temp)
+    corrected = model.apply_float(temp, [columns[a] for a in model.axes])
+    rows = []
+    for g, (lo, hi, n) in enumerate(groups.ranges):
+        sel = groups.labels == g
+        rows.append({"temp_c": float(np.mean(temp[sel])), "range_c": [lo, hi], "samples": n,
+                     "before": {a: float(np.mean(columns[a][sel])) for a in model.axes},
+                     "after": {a: float(np.mean(c[sel])) for a, c in zip(model.axes, corrected)}})
+    return rows

@@ -1,0 +1,176 @@
+"""The temperature-compensation model: what pysig.tcomp.fit produces, what
+`pysig apply` uses and what `pysig export` turns into a C header or an NVM
+image.  Saved as JSON with a format name, a version and a checksum; loading
+anything else raises ModelFileError.
+
+The checksum ("sha256:<hex>") covers the canonical JSON of every other field
+(sorted keys, no whitespace), so reformatting the file keeps it valid but any
+changed value, including a hand edit, is refused.  A file without a checksum
+is refused too (deliberately: it cannot be told from a corrupt one); re-run
+`pysig fit` to write a checked file.
+
+Per axis the model holds delta(u) = f(T) - f(T0) as float64 coefficients in
+ascending powers of u = (T - center) / scale (°C), and its fixed-point twin
+(sig_tcomp.h): int32 coefficients in Q(q) with the int16 temperature scaling
+(0.01 °C) chosen by pysig.tcomp.quant."""
+import hashlib
+import json
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ModelFileError, NonFiniteError
+from ..io import atomic_output
+from .quant import T_PER_DEGC, TemperatureScaling
+from ..reference import tcomp as ref
+
+FORMAT = "pysig-tcomp"
+VERSION = 1
+CHECKSUM_KEY = "checksum"
+
+
+def checksum(d):
+    """sha256 of the canonical JSON of `d` without its checksum field."""
+    body = {k: v for k, v in d.items() if k != CHECKSUM_KEY}
+    canonical = json.dumps(body, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    return "sha256:" + hashlib.sha256(canonical.encode()).hexdigest()
+
+
+@dataclass
+class TcompModel:
+    axes: list                 # column names, 1..3
+    order: int
+    t0: float                  # reference temperature, °C
+    scaling: TemperatureScaling
+    coef: list                 # per axis: order + 1 floats, delta in reading units
+    f_t0: list                 # per axis: f(T0), the reading at T0 (information)
+    q: list                    # per axis: fraction bits of the fixed coefficients
+    coef_q: list               # per axis: order + 1 ints
+    error_bound_lsb: list      # per axis: bound of |delta_fixed - delta_float|
+    temp_column: str = "temp"
+    report: dict = field(default_factory=dict)
+
+    # ---- ranges -----------------------------------------------------------
+    @property
+    def t_lo(self):
+        return self.scaling.t_lo / T_PER_DEGC
+
+    @property
+    def t_hi(self):
+        return self.scaling.t_hi / T_PER_DEGC
+
+    # ---- float path (numpy) ------------------------------------------------
+    def u_of(self, temp):
+        t = np.clip(np.asarray(temp, dtype=float), self.t_lo, self.t_hi)
+        return (t - self.scaling.center_c) / self.scaling.scale_c
+
+    def delta(self, temp, axis):
+        """delta(T) of one axis (float64, temperature clamped to the range)."""
+        return np.polynomial.polynomial.polyval(self.u_of(temp), self.coef[axis])
+
+    def clamped(self, temp):
+        t = np.asarray(temp, dtype=float)
+        return (t < self.t_lo) | (t > self.t_hi)
+
+    def apply_float(self, temp, readings):
+        """readings: sequence of arrays, one per axis -> corrected arrays."""
+        temp = np.asarray(temp, dtype=float)
+        if np.isnan(temp).any():
+            raise NonFiniteError(f"temperature: NaN at index {int(np.flatnonzero(np.isnan(temp))[0])}")
+        return [np.asarray(x, dtype=float) - self.delta(temp, a) for a, x in enumerate(readings)]
+
+    # ---- the C structs' fields --------------------------------------------
+    def fixed_fields(self):
+        s = self.scaling
+        return {"coef": [list(c) for c in self.coef_q], "q": list(self.q), "t_lo": s.t_lo,
+                "t_hi": s.t_hi, "t_center": s.t_center, "t0": int(round(self.t0 * T_PER_DEGC)),
+                "u_mul": s.u_mul, "u_shift": s.u_shift}
+
+    def float_fields(self):
+        return {"coef": [list(c) for c in self.coef], "t_lo": self.t_lo, "t_hi": self.t_hi,
+                "center": self.scaling.center_c, "inv_scale": 1.0 / self.scaling.scale_c}
+
+    def apply_fixed_reference(self, t_centi, readings):
+        """Pure-Python fixed-point path (the spec) for one sample."""
+        return ref.apply_q(self.fixed_fields(), int(t_centi), [int(x) for x in readings])
+
+    # ---- JSON --------------------------------------------------------------
+    def to_dict(self):
+        s = self.scaling
+        return {"format": FORMAT, "version": VERSION, "axes": list(self.axes),
+                "temp_column": self.temp_column, "order": self.order, "t0_c": self.t0,
+                "range_c": [self.t_lo, self.t_hi],
+                "float": {"center_c": s.center_c, "scale_c": s.scale_c,
+                          "coef": [list(map(float, c)) for c in self.coef],
+                          "f_t0": list(map(float, self.f_t0))},
+                "fixed": {"temp_unit": "0.01 degC", "t_lo": s.t_lo, "t_hi": s.t_hi,
+                          "t_center": s.t_center, "u_mul": s.u_mul, "u_shift": s.u_shift,
+                          "q": list(self.q), "coef": [list(map(int, c)) for c in self.coef_q],
+                          "error_bound_lsb": list(map(float, self.error_bound_lsb))},
+                "report": self.report}
+
+    def save(self, path):
+        d = self.to_dict()
+        d[CHECKSUM_KEY] = checksum(d)
+        text = json.dumps(d, indent=2, allow_nan=False) + "\n"
+        with atomic_output(path) as fh:
+            fh.write(text)
+
+
+def from_dict(d, where="model", verify_checksum=False):
+    if not isinstance(d, dict) or d.get("format") != FORMAT:
+        raise ModelFileError(f"{where}: not a pysig temperature-compensation model "
+                             f"(format {d.get('format') if isinstance(d, dict) else None!r}, "
+                             f"expected {FORMAT!r})")
+    if d.get("version") != VERSION:
+        raise ModelFileError(f"{where}: model version {d.get('version')!r} is not supported "
+                             f"(this pysig reads version {VERSION})")
+    if verify_checksum:
+        if CHECKSUM_KEY not in d:
+            raise ModelFileError(f"{where}: no checksum (written by an older pysig, or edited): "
+                                 f"re-run pysig fit to write a checked model")
+        try:
+            ok = d[CHECKSUM_KEY] == checksum(d)
+        except (TypeError, ValueError):         # a value JSON cannot write back (e.g. 1e999 -> inf)
+            ok = False
+        if not ok:
+            raise ModelFileError(f"{where}: checksum mismatch: the file is corrupt or was edited")
+    try:
+        fx, fl = d["fixed"], d["float"]
+        order = int(d["order"])
+        axes = list(d["axes"])
+        scaling = TemperatureScaling(int(fx["t_lo"]), int(fx["t_hi"]), int(fx["t_center"]),
+                                     int(fx["u_mul"]), int(fx["u_shift"]))
+        model = TcompModel(axes=axes, order=order, t0=float(d["t0_c"]), scaling=scaling,
+                           coef=[np.array(c, dtype=float) for c in fl["coef"]],
+                           f_t0=[float(v) for v in fl["f_t0"]],
+                           q=[int(v) for v in fx["q"]], coef_q=[tuple(int(v) for v in c) for c in fx["coef"]],
+                           error_bound_lsb=[float(v) for v in fx.get("error_bound_lsb", [0.0] * len(axes))],
+                           temp_column=str(d.get("temp_column", "temp")), report=d.get("report", {}))
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ModelFileError(f"{where}: malformed model: {exc!r}") from None
+    n = len(axes)
+    if not 1 <= n <= ref.MAX_AXES or not 1 <= order <= ref.MAX_ORDER:
+        raise ModelFileError(f"{where}: {n} axes / order {order} (supported: 1..3 axes, order 1..8)")
+    for name, rows in (("float coef", model.coef), ("fixed coef", model.coef_q)):
+        if len(rows) != n or any(len(r) != order + 1 for r in rows):
+            raise ModelFileError(f"{where}: {name} must be {n} rows of {order + 1} values")
+    if len(model.q) != n or any(not 0 <= v <= ref.MAX_Q for v in model.q):
+        raise ModelFileError(f"{where}: q must be {n} values in 0..{ref.MAX_Q}")
+    if not all(math.isfinite(v) for row in model.coef for v in row):
+        raise ModelFileError(f"{where}: non-finite float coefficient")
+    if not -32768 <= scaling.t_lo < scaling.t_hi <= 32767:
+        raise ModelFileError(f"{where}: bad calibrated range {scaling.t_lo}..{scaling.t_hi}")
+    return model
+
+
+def load(path):
+    try:
+        with open(path) as fh:
+            d = json.load(fh)
+    except OSError as exc:
+        raise ModelFileError(f"{path}: cannot read: {exc.strerror}") from None
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ModelFileError(f"{path}: not a JSON model file: {exc}") from None
+    return from_dict(d, where=str(path), verify_checksum=True)
