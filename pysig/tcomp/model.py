@@ -23,7 +23,10 @@ import numpy as np
 from ..errors import ModelFileError, NonFiniteError
 from ..io import atomic_output
 from .quant import T_PER_DEGC, TemperatureScaling
-from ..reference import tcomp as ref
+
+MAX_AXES = 3
+MAX_ORDER = 8
+MAX_Q = 30
 
 FORMAT = "pysig-tcomp"
 VERSION = 1
@@ -91,10 +94,6 @@ class TcompModel:
         return {"coef": [list(c) for c in self.coef], "t_lo": self.t_lo, "t_hi": self.t_hi,
                 "center": self.scaling.center_c, "inv_scale": 1.0 / self.scaling.scale_c}
 
-    def apply_fixed_reference(self, t_centi, readings):
-        """Pure-Python fixed-point path (the spec) for one sample."""
-        return ref.apply_q(self.fixed_fields(), int(t_centi), [int(x) for x in readings])
-
     # ---- JSON --------------------------------------------------------------
     def to_dict(self):
         s = self.scaling
@@ -151,13 +150,13 @@ def from_dict(d, where="model", verify_checksum=False):
     except (KeyError, TypeError, ValueError) as exc:
         raise ModelFileError(f"{where}: malformed model: {exc!r}") from None
     n = len(axes)
-    if not 1 <= n <= ref.MAX_AXES or not 1 <= order <= ref.MAX_ORDER:
+    if not 1 <= n <= MAX_AXES or not 1 <= order <= MAX_ORDER:
         raise ModelFileError(f"{where}: {n} axes / order {order} (supported: 1..3 axes, order 1..8)")
     for name, rows in (("float coef", model.coef), ("fixed coef", model.coef_q)):
         if len(rows) != n or any(len(r) != order + 1 for r in rows):
             raise ModelFileError(f"{where}: {name} must be {n} rows of {order + 1} values")
-    if len(model.q) != n or any(not 0 <= v <= ref.MAX_Q for v in model.q):
-        raise ModelFileError(f"{where}: q must be {n} values in 0..{ref.MAX_Q}")
+    if len(model.q) != n or any(not 0 <= v <= MAX_Q for v in model.q):
+        raise ModelFileError(f"{where}: q must be {n} values in 0..{MAX_Q}")
     if not all(math.isfinite(v) for row in model.coef for v in row):
         raise ModelFileError(f"{where}: non-finite float coefficient")
     if not -32768 <= scaling.t_lo < scaling.t_hi <= 32767:

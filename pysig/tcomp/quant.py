@@ -49,12 +49,10 @@ class TemperatureScaling:
 
 
 def to_centi(temp_c, what="temperature"):
-    """°C -> int16 counts of 0.01 °C (rounded); RangeError outside int16."""
-    t = np.rint(np.asarray(temp_c, dtype=float) * T_PER_DEGC)
-    if t.size and (t.min() < -32768 or t.max() > 32767):
-        raise RangeError(f"{what}: {float(np.max(np.abs(temp_c)))} °C does not fit an int16 "
-                         f"in 0.01 °C (-327.68 .. 327.67 °C)")
-    return t.astype(np.int64)
+    """°C -> int16 counts of 0.01 °C (rounded); RangeError outside int16
+    (pysig.tcomp.tempcode states the out-of-range rule)."""
+    from .tempcode import CELSIUS
+    return CELSIUS.to_t(temp_c, "raise", what)
 
 
 def choose_scaling(t_lo, t_hi):
@@ -63,6 +61,10 @@ def choose_scaling(t_lo, t_hi):
     if not (-32768 <= t_lo < t_hi <= 32767):
         raise RangeError(f"calibrated range [{t_lo}, {t_hi}] (0.01 °C) must satisfy "
                          f"-32768 <= t_lo < t_hi <= 32767")
+    if t_hi - t_lo == 65535:
+        # the whole int16 span: |t - t_center| <= 32767 needs one code less;
+        # the lowest code is then clamped (and flagged) like any outside one
+        t_lo += 1
     t_center = (t_lo + t_hi) // 2
     half = max(t_hi - t_center, t_center - t_lo)
     if half > INT16_MAX:
@@ -173,6 +175,15 @@ def compact_eval(top, add, w_shift, v):
     return (h * v + int(add[-1]) - (1 << 15)) / 65536.0
 
 
+def _compact_axis_accepted(cls, top, add, scaling, w_shift):
+    """True when sig_tcomp16_init accepts one axis (its no-overflow bound)."""
+    try:
+        cls.from_fields([top], [list(add)], scaling.t_lo, scaling.t_hi, w_shift)
+    except RangeError:
+        return False
+    return True
+
+
 def quantize_compact(model, max_error_lsb=COMPACT_MAX_ERROR_LSB, what="compact form"):
     """CompactModel for a TcompModel (pysig.tcomp.model), or RangeError naming the
     axis and the limit it breaks: order above 5, a range wider than 327.67 °C
@@ -180,7 +191,7 @@ def quantize_compact(model, max_error_lsb=COMPACT_MAX_ERROR_LSB, what="compact f
     hold (sig_tcomp16_init's bound: e.g. a slope of 50 LSB/°C or more), or a
     measured error above max_error_lsb.  The error is measured exactly, at
     every 0.01 °C of the range, against the model's float64 delta."""
-    from ..reference import tcomp16 as ref16
+    from ._tcomp16 import Tcomp16Q
     s = model.scaling
     order = int(model.order)
     if not 1 <= order <= COMPACT_MAX_ORDER:
@@ -206,7 +217,7 @@ def quantize_compact(model, max_error_lsb=COMPACT_MAX_ERROR_LSB, what="compact f
                for k in range(order - 1, 0, -1)]
         add.append(_round_fraction(d[0] * 65536) + (1 << 15))
         if not -32768 <= top <= 32767 or not all(-(1 << 31) <= c <= INT32_MAX for c in add) \
-                or not ref16.fits(top, add, v_max, v_max << w_shift):
+                or not _compact_axis_accepted(Tcomp16Q, top, add, s, w_shift):
             slope = max(abs(float(sum(k * d[k] * Fraction(int(x)) ** (k - 1)
                                       for k in range(1, order + 1)))) for x in (0, v_max)) * 100
             raise RangeError(
