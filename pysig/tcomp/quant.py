@@ -37,15 +37,16 @@ class TemperatureScaling:
     t_center: int
     u_mul: int
     u_shift: int
+    units_per: int = T_PER_DEGC   # t counts per unit of the float abscissa (100: 0.01 °C; 1: raw codes)
 
     @property
     def scale_c(self):
         """°C per unit of u in the float model."""
-        return (1 << (self.u_shift + 15)) / self.u_mul / T_PER_DEGC
+        return (1 << (self.u_shift + 15)) / self.u_mul / self.units_per
 
     @property
     def center_c(self):
-        return self.t_center / T_PER_DEGC
+        return self.t_center / self.units_per
 
 
 def to_centi(temp_c, what="temperature"):
@@ -55,8 +56,9 @@ def to_centi(temp_c, what="temperature"):
     return CELSIUS.to_t(temp_c, "raise", what)
 
 
-def choose_scaling(t_lo, t_hi):
-    """Scaling for a calibrated range [t_lo, t_hi] in 0.01 °C (ints)."""
+def choose_scaling(t_lo, t_hi, units_per=T_PER_DEGC):
+    """Scaling for a calibrated range [t_lo, t_hi] of int16 t (ints; t
+    counts `units_per` per unit of the float abscissa: 100 for 0.01 °C)."""
     t_lo, t_hi = int(t_lo), int(t_hi)
     if not (-32768 <= t_lo < t_hi <= 32767):
         raise RangeError(f"calibrated range [{t_lo}, {t_hi}] (0.01 °C) must satisfy "
@@ -72,7 +74,7 @@ def choose_scaling(t_lo, t_hi):
     for shift in range(30, -1, -1):
         u_mul = (INT16_MAX << shift) // half
         if u_mul <= INT16_MAX:
-            return TemperatureScaling(t_lo, t_hi, t_center, u_mul, shift)
+            return TemperatureScaling(t_lo, t_hi, t_center, u_mul, shift, int(units_per))
     raise AssertionError("unreachable: shift 0 gives u_mul <= 32767 for half >= 1")
 
 
@@ -141,8 +143,8 @@ def _compose_in_v(coef, scaling, what):
     polynomial in u = (T - center) / scale, rewritten in v = t - t_lo."""
     center = Fraction(scaling.center_c)
     scale = Fraction(scaling.scale_c)
-    alpha = (Fraction(scaling.t_lo, T_PER_DEGC) - center) / scale       # u at v = 0
-    beta = 1 / (T_PER_DEGC * scale)                                       # du / dv
+    alpha = (Fraction(scaling.t_lo, scaling.units_per) - center) / scale       # u at v = 0
+    beta = 1 / (scaling.units_per * scale)                                       # du / dv
     d = [Fraction(0)] * len(coef)
     power = [Fraction(1)]                                                 # (alpha + beta v)^k
     for k, c in enumerate(coef):
@@ -207,7 +209,7 @@ def quantize_compact(model, max_error_lsb=COMPACT_MAX_ERROR_LSB, what="compact f
     for _ in range(order - 1):
         exps.append(exps[-1] + 16 - w_shift)              # exps[k-1] = E_k
     v = np.arange(v_max + 1, dtype=np.int64)
-    temp = (s.t_lo + v) / T_PER_DEGC
+    temp = (s.t_lo + v) / s.units_per
     tops, adds, errors = [], [], []
     for axis, name in enumerate(model.axes):
         where = f"{what}, axis '{name}'"
@@ -224,7 +226,8 @@ def quantize_compact(model, max_error_lsb=COMPACT_MAX_ERROR_LSB, what="compact f
                 f"{where}: the drift does not fit the int16 levels of the compact form "
                 f"(slope up to {slope:.3g} LSB/°C at the range ends; the form holds Horner "
                 f"partial sums below 0.5 LSB per 0.01 °C^k): use the int32 form (sig_tcomp)")
-        err = float(np.max(np.abs(compact_eval(top, add, w_shift, v) - model.delta(temp, axis))))
+        user_temp = model.temp_code.from_domain(temp) if hasattr(model, "temp_code") else temp
+        err = float(np.max(np.abs(compact_eval(top, add, w_shift, v) - model.delta(user_temp, axis))))
         if err > max_error_lsb:
             raise RangeError(f"{where}: compact quantisation error {err:.3f} LSB exceeds "
                              f"{max_error_lsb} LSB over {s.t_lo / 100:.2f}..{s.t_hi / 100:.2f} °C "
