@@ -156,24 +156,52 @@ def coverage(prep):
     return out
 
 
+def branches(temp_domain, min_swing):
+    """+1 (heating) / -1 (cooling) / 0 (neither) per sample, in sample
+    order: runs between turning points of the temperature, a turn counting
+    only once the temperature came back by more than `min_swing` from its
+    extreme (so noise on a plateau is neither branch)."""
+    t = np.asarray(temp_domain, dtype=float)
+    label = np.zeros(t.size, dtype=int)
+    if t.size < 2:
+        return label
+    pivots, direction, ext, lo, hi = [], 0, 0, 0, 0
+    for i in range(1, t.size):
+        v = t[i]
+        if direction == 0:
+            if v - t[lo] > min_swing:
+                pivots, direction, ext = [lo], 1, i
+            elif t[hi] - v > min_swing:
+                pivots, direction, ext = [hi], -1, i
+            lo = i if v < t[lo] else lo
+            hi = i if v > t[hi] else hi
+        elif direction * (v - t[ext]) >= 0:
+            ext = i
+        elif direction * (t[ext] - v) > min_swing:
+            pivots.append(ext)
+            direction, ext = -direction, i
+    if direction != 0:
+        pivots.append(ext)
+    for a, b in zip(pivots[:-1], pivots[1:]):
+        label[a:b + 1] = 1 if t[b] > t[a] else -1
+    return label
+
+
 def hysteresis(temp_domain, columns, n_bins=N_BLOCKS):
-    """Heating and cooling branches in sample order: per axis the mean and
-    largest |mean(heating) - mean(cooling)| over temperature bins both
-    branches cover, or None when the log does not hold both (each branch
-    needs 10 % of the samples and 2 shared bins)."""
+    """Heating and cooling branches in sample order (`branches`, a turn
+    needs one CV block of travel): per axis the mean and largest
+    |mean(heating) - mean(cooling)| over the temperature bins both branches
+    cover, or None when the log does not hold both (each branch needs 10 %
+    of the samples, and 2 shared bins)."""
     t = np.asarray(temp_domain, dtype=float)
     n = t.size
-    if n < 20:
-        return None
-    w = max(5, n // 100)
-    smooth = np.convolve(t, np.ones(w) / w, mode="same")
-    slope = np.gradient(smooth)
-    eps = 1e-3 * max(float(np.ptp(t)), 1e-12) / w
-    heat, cool = slope > eps, slope < -eps
-    heat[:w] = heat[-w:] = cool[:w] = cool[-w:] = False      # the moving average's edges
-    if heat.sum() < 0.1 * n or cool.sum() < 0.1 * n:
+    if n < 20 or not np.ptp(t) > 0:
         return None
     edges = np.linspace(t.min(), t.max(), n_bins + 1)
+    label = branches(t, edges[1] - edges[0])
+    heat, cool = label == 1, label == -1
+    if heat.sum() < 0.1 * n or cool.sum() < 0.1 * n:
+        return None
     b = np.clip(np.searchsorted(edges, t, side="right") - 1, 0, n_bins - 1)
     shared = [k for k in range(n_bins) if np.any(heat & (b == k)) and np.any(cool & (b == k))]
     if len(shared) < 2:

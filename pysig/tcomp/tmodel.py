@@ -78,6 +78,10 @@ def _limits(cand, prep):
 def _default_t0(temp_code, lo, hi):
     if temp_code.unit == "c" and lo <= 25.0 <= hi:
         return 25.0
+    if temp_code.unit == "raw" and temp_code.scale:
+        code = round((25.0 - (temp_code.offset or 0.0)) / temp_code.scale)     # 25 °C as a code
+        if lo <= float(temp_code.domain(code)) <= hi:
+            return float(code)
     return float(temp_code.from_domain(round((lo + hi) / 2)))
 
 
@@ -239,9 +243,11 @@ def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scal
     model.value_scale = float(value_scale)
     model.temp_column = temp_column
     model.report.update({
-        "selection": {"spec": spec, "chosen": chosen.label, "cv_rms": chosen.cv_rms if cv_ok else None,
+        "selection": {"spec": spec, "chosen": chosen.label,
+                      "cv_rms": chosen.cv_rms if np.isfinite(chosen.cv_rms) else None,
                       "best": best.label if best else None, "best_cv_rms": best.cv_rms if best else None,
-                      "candidates": [{"model": c.label, "cv_rms": None if c.refused else c.cv_rms,
+                      "candidates": [{"model": c.label,
+                                      "cv_rms": c.cv_rms if np.isfinite(c.cv_rms) else None,
                                       "cv_axis": c.cv_axis, "refused": c.refused or None,
                                       "cycles": c.cost(len(columns))[0], "bytes": c.cost(len(columns))[1]}
                                      for c in cands],
