@@ -130,7 +130,7 @@ def test_cli_round_trip_fit_export_image_c_evaluation(tmp_path, chamber_csv, cap
 def test_exported_c_header_compiles_and_matches_python(tmp_path, chamber_csv):
     gcc = require_tool("gcc")
     mj, hdr = tmp_path / "m.json", tmp_path / "cal.h"
-    assert main(["fit", str(chamber_csv), "--columns", "x,y,z", "-o", str(mj)]) == 0
+    assert main(["fit", str(chamber_csv), "--columns", "x,y,z", "--order", "2", "-o", str(mj)]) == 0
     assert main(["export", str(mj), "--format", "c", "--name", "cal", "-o", str(hdr)]) == 0
     m = tmodel.load(mj)
     temps = [-2000, 0, 1234, 2500, 4999, 7000, 9000]
@@ -188,7 +188,7 @@ def test_cli_errors_have_their_exit_status_and_write_nothing(tmp_path, capsys, s
     if setup == "nan":
         rows[5] = "nan,3"
     inp.write_text("\n".join(rows) + "\n")
-    mdl.write_text(json.dumps({"format": "pysig-tcomp", "version": 2}))
+    mdl.write_text(json.dumps({"format": "pysig-tcomp", "version": 3}))
     argv = [str(inp) if a == "IN" else str(out) if a == "OUT" else str(mdl) if a == "MODEL" else a
             for a in args]
     assert main(argv) == status

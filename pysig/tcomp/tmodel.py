@@ -169,9 +169,9 @@ def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scal
     if t0 is None:
         t0 = _default_t0(temp_code, lo, hi)
     if family == "poly" and size != "auto":
-        fit.require_temperatures(groups, size, temp_code.domain(temp), what)
         if not 1 <= size <= fit.MAX_FIT_ORDER:
-            raise RangeError(f"{what}: polynomial order must be 1..{fit.MAX_FIT_ORDER}, got {size}")
+            raise RangeError(f"{what}: order must be 1..{fit.MAX_FIT_ORDER} or 'auto', got {size}")
+        fit.require_temperatures(groups, size, temp_code.domain(temp), what)
     cands = [c for c in auto.candidates(family, size, prep.x.size)
              if size != "auto" or (c.size + 1 if c.family == "poly" else c.size) <= max(groups.count, 2)
              or groups.count >= 3]
@@ -215,6 +215,8 @@ def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scal
     if cv_ok:
         lines += _cv_table(cands, chosen, best, len(columns), unit)
         rule = f"the cheapest ({prefer} first) within {auto.TOLERANCE:.0%} of the best CV RMS"
+        if family == "poly" and size == "auto":
+            lines.append(f"order chosen: {chosen.size}")
         lines.append(f"model chosen: {chosen.label} ({rule if len(cands) > 1 else 'as asked'}), "
                      f"CV RMS {chosen.cv_rms:.4g}; best of any size: {best.label} {best.cv_rms:.4g}")
         fold_lines, fold_rows = _fold_lines(chosen, prep, temp_code)
