@@ -168,6 +168,8 @@ def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scal
     lo, hi = float(prep.x.min()), float(prep.x.max())
     if t0 is None:
         t0 = _default_t0(temp_code, lo, hi)
+    if family == "table" and size != "auto" and not 2 <= size <= 255:
+        raise RangeError(f"{what}: a table needs 2..255 knots, got {size}")
     if family == "poly" and size != "auto":
         if not 1 <= size <= fit.MAX_FIT_ORDER:
             raise RangeError(f"{what}: order must be 1..{fit.MAX_FIT_ORDER} or 'auto', got {size}")
@@ -208,8 +210,21 @@ def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scal
             skipped.append((c, str(exc)))
             if len(ordered) == 1:
                 raise
+    if model is None and len(ordered) > 1:
+        # nothing near the best fits the fixed point: the most accurate one that does
+        rest = sorted((c for c in scored if c not in ordered), key=lambda c: c.cv_rms)
+        for c in rest:
+            try:
+                model = _build(c, prep, groups, t0, temp_code, _limits(c, prep), temp_column, what)
+                chosen = c
+                lines.append(f"no model within {auto.TOLERANCE:.0%} of the best CV fits the fixed point; "
+                             f"the most accurate one that does: {c.label}, CV RMS "
+                             f"{c.cv_rms / best.cv_rms:.3g} x the best")
+                break
+            except (RangeError, InsufficientDataError) as exc:
+                skipped.append((c, str(exc)))
     if model is None:
-        raise RangeError(f"{what}: no model within 5 % of the best CV fits the fixed point: " +
+        raise RangeError(f"{what}: no model fits the fixed point: " +
                          "; ".join(f"{c.label}: {e}" for c, e in skipped))
     unit = "reading LSB" if value_scale == 1.0 else f"reading x {value_scale:g}"
     if cv_ok:
