@@ -113,10 +113,11 @@ def temp_to_int(temp_c, units_per_c):
     """°C -> int16 temperature units: rounded to nearest (half to even),
     saturated to int16 (the rule of pysig.tcomp.tempcode for applying a
     model: the C then clamps and flags)."""
+    from .tempcode import to_int16
     x = np.asarray(temp_c, dtype=float) * float(units_per_c)
     if not np.all(np.isfinite(x)):
         raise NonFiniteError("pwl: non-finite temperature")
-    return np.clip(np.rint(x), -32768, 32767).astype(np.int16)
+    return to_int16(x, "saturate").astype(np.int16)
 
 
 def knot_offsets_q16(n_knots, recip):

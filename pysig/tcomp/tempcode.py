@@ -74,14 +74,9 @@ class TempCode:
         bad = np.flatnonzero(~np.isfinite(v))
         if bad.size:
             raise NonFiniteError(f"{what}: non-finite temperature {v.flat[bad[0]]} at index {int(bad[0])}")
-        t = np.rint(self.domain(v) * self.units_per_degree)
-        if t.size and (t.min() < INT16_MIN or t.max() > INT16_MAX):
-            if out_of_range == "saturate":
-                return np.clip(t, INT16_MIN, INT16_MAX).astype(np.int64)
-            i = int(np.argmax((t < INT16_MIN) | (t > INT16_MAX)))
-            raise RangeError(f"{what}: {float(v.flat[i])!r} {self.name} at index {i} does not fit the "
-                             f"int16 temperature ({self.describe_limits()})")
-        return t.astype(np.int64)
+        return to_int16(self.domain(v) * self.units_per_degree, out_of_range,
+                        lambda i: f"{what}: {float(v.flat[i])!r} {self.name} at index {i} does not fit the "
+                                  f"int16 temperature ({self.describe_limits()})")
 
     def codes(self, t):
         """The 16 bits the firmware passes to sig_tmodel_apply for int16 t."""
@@ -120,6 +115,20 @@ class TempCode:
 
 
 CELSIUS = TempCode()
+
+
+def to_int16(t_units, out_of_range="raise", message=None):
+    """THE rounding of temperatures (already in t units) to int16 t: to
+    nearest, half to even; outside int16 the module's rule (raise a
+    RangeError with `message(index)`, or saturate).  Every converter in
+    pysig.tcomp goes through here."""
+    t = np.rint(np.asarray(t_units, dtype=float))
+    if t.size and (t.min() < INT16_MIN or t.max() > INT16_MAX):
+        if out_of_range == "saturate":
+            return np.clip(t, INT16_MIN, INT16_MAX).astype(np.int64)
+        i = int(np.argmax((t < INT16_MIN) | (t > INT16_MAX)))
+        raise RangeError(message(i) if message else f"temperature at index {i} does not fit int16")
+    return t.astype(np.int64)
 
 
 def raw_code(values, scale=None, offset=None, what="temperature"):
