@@ -22,30 +22,32 @@ static sig_status load_code_kind(const uint8_t *image, size_t len, uint8_t *kind
 sig_status sig_tmodel_load_image(sig_tmodel *m, int16_t *storage, uint16_t storage_len,
                                  const uint8_t *image, size_t len)
 {
-    sig_tmodel tmp;
+    /* Each family's loader writes its part of m->m only on success, so no
+     * copy of the model is needed (the 8051's stack holds ~200 bytes). */
     const uint8_t *p = NULL;
     uint16_t plen = 0u;
+    uint8_t kind, family, n_axes = 0u;
     sig_status st;
     if (m == NULL || image == NULL) return SIG_ERR_ARG;
-    st = load_code_kind(image, len, &tmp.code_kind);
+    st = load_code_kind(image, len, &kind);
     if (st != SIG_OK) return st;
     if (sig_image_find_section(image, len, SIG_SECTION_COMPACT_POLY, &p, &plen) == SIG_OK) {
-        st = sig_tcomp16_load_image(&tmp.m.compact, image, len);
-        if (st != SIG_OK) return st;
-        tmp.family = SIG_TMODEL_COMPACT;
-        tmp.n_axes = tmp.m.compact.n_axes;
+        st = sig_tcomp16_load_image(&m->m.compact, image, len);
+        family = SIG_TMODEL_COMPACT;
+        if (st == SIG_OK) n_axes = m->m.compact.n_axes;
     } else if (sig_image_find_section(image, len, SIG_SECTION_OFFSET_POLY, &p, &plen) == SIG_OK) {
-        st = sig_tcomp_load_image(&tmp.m.poly, image, len);
-        if (st != SIG_OK) return st;
-        tmp.family = SIG_TMODEL_POLY;
-        tmp.n_axes = tmp.m.poly.n_axes;
+        st = sig_tcomp_load_image(&m->m.poly, image, len);
+        family = SIG_TMODEL_POLY;
+        if (st == SIG_OK) n_axes = m->m.poly.n_axes;
     } else {
         if (storage == NULL) return SIG_ERR_ARG;
-        st = sig_pwl_load_image(tmp.m.table, (uint8_t)SIG_PWL_MAX_AXES, &tmp.n_axes,
+        st = sig_pwl_load_image(m->m.table, (uint8_t)SIG_PWL_MAX_AXES, &n_axes,
                                 storage, storage_len, image, len);
-        if (st != SIG_OK) return st;
-        tmp.family = SIG_TMODEL_TABLE;
+        family = SIG_TMODEL_TABLE;
     }
-    *m = tmp;
+    if (st != SIG_OK) return st;
+    m->family = family;
+    m->code_kind = kind;
+    m->n_axes = n_axes;
     return SIG_OK;
 }
