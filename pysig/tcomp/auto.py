@@ -26,6 +26,8 @@ N_BLOCKS = 8
 TOLERANCE = 0.05
 MIN_BLOCK_POINTS = 3
 POLY_ORDERS = tuple(range(1, 9))
+MAX_POINTS = 2000
+MIN_RUN = 20          # samples per heating or cooling run, on average, for a log in time order
 TABLE_SIZES = (2, 3, 4, 5, 6, 8, 9, 12, 17, 24, 33, 48, 65, 97, 129)
 
 
@@ -50,6 +52,16 @@ def prepare(temp, columns, temp_code):
         unit = "0.01 °C" if temp_code.unit == "c" else "code"
         notes.append(f"{t.size} samples averaged into {keys.size} temperatures (one per distinct {unit}, "
                      f"{counts.min()}..{counts.max()} samples each)")
+    if keys.size > MAX_POINTS:
+        # a long log at fine resolution: equal-width bins keep CV fast
+        edges = np.linspace(x[0], x[-1], MAX_POINTS + 1)
+        b = np.clip(np.searchsorted(edges, x, side="right") - 1, 0, MAX_POINTS - 1)
+        used = np.unique(b)
+        x = np.array([np.mean(x[b == k]) for k in used])
+        avg = {n: np.array([np.mean(v[b == k]) for k in used]) for n, v in avg.items()}
+        counts = np.array([int(np.sum(counts[b == k])) for k in used])
+        notes.append(f"then averaged into {used.size} temperature bins of {edges[1] - edges[0]:.4g} "
+                     f"(at most {MAX_POINTS})")
     raw = np.asarray(temp, dtype=float)
     if temp_code.unit == "c" and keys.size > 1 and np.all(raw == np.round(raw)):
         notes.append("temperatures are whole degrees: averaged per distinct temperature "
@@ -182,6 +194,8 @@ def branches(temp_domain, min_swing):
             direction, ext = -direction, i
     if direction != 0:
         pivots.append(ext)
+    if len(pivots) > 1 and (pivots[-1] - pivots[0]) / (len(pivots) - 1) < MIN_RUN:
+        return label          # jumps back and forth (an unordered log): no thermal branches
     for a, b in zip(pivots[:-1], pivots[1:]):
         label[a:b + 1] = 1 if t[b] > t[a] else -1
     return label
