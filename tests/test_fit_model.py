@@ -216,3 +216,23 @@ def test_out_of_range_is_clamped_and_flagged_by_the_firmware(tmp_path):
         o = read_csv(out)
         assert list(o["tcomp_clamped"]) == [1, 1, 0, 1, 1]
         assert o["x_comp"][0] == o["x_comp"][1] and o["x_comp"][3] == o["x_comp"][4]   # flat beyond the ends
+
+
+def test_unit_and_form_refusals(tmp_path, capsys):
+    t = np.linspace(0, 50, 200)
+    src = write_csv(tmp_path / "d.csv", {"temp": t, "x": 0.37 * t + 0.01})   # readings with decimals
+    mj, img = tmp_path / "m.json", tmp_path / "m.bin"
+    assert main(["fit", str(src), "--columns", "x", "--temp-scale", "0.1", "-o", str(mj)]) == \
+        InputFileError.exit_status and "--temp-unit raw only" in capsys.readouterr().err
+    assert main(["fit", str(src), "--columns", "x", "--model", "table:9", "-o", str(mj)]) == 0
+    assert main(["export", str(mj), "--format", "image", "--compact", "-o", str(img)]) == \
+        RangeError.exit_status and "this one is a table" in capsys.readouterr().err and not img.exists()
+    assert main(["export", str(mj), "--format", "image", "-o", str(img)]) == 0
+    out = tmp_path / "o.csv"
+    assert main(["apply", str(src), "--model", str(img), "--temp", "temp", "--columns", "x",
+                 "-o", str(out)]) == RangeError.exit_status
+    assert "give --value-scale" in capsys.readouterr().err and not out.exists()
+    assert main(["apply", str(src), "--model", str(img), "--temp", "temp", "--columns", "x",
+                 "--value-scale", "100", "-o", str(out)]) == RangeError.exit_status    # 0.37 t x 100: not integers
+    assert main(["apply", str(src), "--model", str(mj), "--temp-unit", "raw", "-o", str(out)]) == \
+        InputFileError.exit_status and "for images" in capsys.readouterr().err
