@@ -236,3 +236,45 @@ def test_unit_and_form_refusals(tmp_path, capsys):
                  "--value-scale", "100", "-o", str(out)]) == RangeError.exit_status    # 0.37 t x 100: not integers
     assert main(["apply", str(src), "--model", str(mj), "--temp-unit", "raw", "-o", str(out)]) == \
         InputFileError.exit_status and "for images" in capsys.readouterr().err
+
+
+def test_exported_table_header_compiles_and_equals_the_image(tmp_path):
+    import subprocess
+    from conftest import CSRC_INCLUDE, require_tool
+    from pysig.tcomp import _tmodel
+    gcc = require_tool("gcc")
+    codes = np.arange(63000, 65001, 8).astype(float)
+    src = write_csv(tmp_path / "r.csv", {"code": codes, "x": np.rint(300 * np.sin(codes / 300.0)),
+                                         "y": np.rint(0.05 * (codes - 64000))})
+    mj, hdr = tmp_path / "m.json", tmp_path / "cal.h"
+    assert main(["fit", str(src), "--temp", "code", "--temp-unit", "raw", "--columns", "x,y",
+                 "--model", "table:33", "-o", str(mj)]) == 0
+    assert main(["export", str(mj), "--format", "c", "--name", "cal", "-o", str(hdr)]) == 0
+    test_codes = [0, 62999, 63000, 63555, 64001, 65000, 65535]
+    (tmp_path / "main.c").write_text("""#include <stdio.h>
+#include "cal.h"
+int main(void) {
+    static const uint16_t codes[] = {%s};
+    int16_t in[2] = {1000, -2000}, out[2];
+    sig_tmodel m;
+    unsigned i;
+    if (sig_tmodel_init_table(&m, CAL_N_AXES, cal_table, CAL_N_KNOTS, CAL_T_LO, CAL_T_HI, CAL_RECIP,
+                              cal_value_frac, CAL_TCODE) != SIG_OK) return 1;
+    for (i = 0; i < sizeof codes / sizeof codes[0]; i++) {
+        int st = sig_tmodel_apply(&m, codes[i], in, out);
+        printf("%%d %%d %%d\\n", st, out[0], out[1]);
+    }
+    return 0;
+}
+""" % ", ".join(f"{c}u" for c in test_codes))
+    from pysig.mcu.runner import csrc_sources
+    srcs = [str(f) for f in csrc_sources("sig_tmodel")]
+    exe = tmp_path / "prog"
+    res = subprocess.run([gcc, "-std=c99", "-Wall", "-Werror", "-I", str(CSRC_INCLUDE), "-I", str(tmp_path),
+                          str(tmp_path / "main.c"), *srcs, "-o", str(exe)], capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    lines = subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout.split("\n")
+    host = _tmodel.TModel.from_image(tmodel.image_bytes(tmodel.load(mj)))
+    out, st = host.apply(test_codes, np.array([[1000, -2000]] * len(test_codes)))
+    for i, line in enumerate(lines[:len(test_codes)]):
+        assert [int(v) for v in line.split()] == [st[i], out[i, 0], out[i, 1]]

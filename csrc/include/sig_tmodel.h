@@ -67,6 +67,16 @@ int16_t sig_tmodel_code_to_t(uint8_t code_kind, uint16_t code);
 sig_status sig_tmodel_load_image(sig_tmodel *m, int16_t *storage, uint16_t storage_len,
                                  const uint8_t *image, size_t len);
 
+/* A table model from const arrays (what `pysig export --format c` writes for
+ * a table): n_axes tables of n_knots entries back to back in `table`, one
+ * value_frac per axis, shared t_lo, t_hi, recip (sig_pwl.h), and the code
+ * kind.  SIG_ERR_ARG (*m untouched) for NULL pointers, n_axes outside 1..3,
+ * a code kind other than SIG_TCODE_INT16/UINT16, or parameters
+ * sig_pwl_init_q16 rejects.  The entries stay in the caller's array. */
+sig_status sig_tmodel_init_table(sig_tmodel *m, uint8_t n_axes, const int16_t *table, uint8_t n_knots,
+                                 int16_t t_lo, int16_t t_hi, uint32_t recip, const uint8_t *value_frac,
+                                 uint8_t code_kind);
+
 /* THE firmware entry point: compensate the n_axes int16 readings in[] taken
  * at the temperature `code` into out[] (may be the same array).  Status as
  * above; SIG_ERR_ARG (out untouched) for NULL pointers or an unknown family. */

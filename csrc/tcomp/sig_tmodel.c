@@ -28,6 +28,26 @@ static sig_status apply_tables(const sig_tmodel *m, int16_t t, const int16_t *in
     return st;
 }
 
+sig_status sig_tmodel_init_table(sig_tmodel *m, uint8_t n_axes, const int16_t *table, uint8_t n_knots,
+                                 int16_t t_lo, int16_t t_hi, uint32_t recip, const uint8_t *value_frac,
+                                 uint8_t code_kind)
+{
+    sig_pwl_q16 check;
+    uint8_t a;
+    if (m == NULL || table == NULL || value_frac == NULL) return SIG_ERR_ARG;
+    if (n_axes < 1u || n_axes > SIG_PWL_MAX_AXES || code_kind > SIG_TCODE_UINT16) return SIG_ERR_ARG;
+    for (a = 0u; a < n_axes; a++)       /* every axis checked before anything is written */
+        if (sig_pwl_init_q16(&check, table, n_knots, t_lo, t_hi, recip, value_frac[a]) != SIG_OK)
+            return SIG_ERR_ARG;
+    for (a = 0u; a < n_axes; a++)
+        (void)sig_pwl_init_q16(&m->m.table[a], table + (uint16_t)a * n_knots, n_knots, t_lo, t_hi,
+                               recip, value_frac[a]);
+    m->family = SIG_TMODEL_TABLE;
+    m->code_kind = code_kind;
+    m->n_axes = n_axes;
+    return SIG_OK;
+}
+
 sig_status sig_tmodel_apply(const sig_tmodel *m, uint16_t code, const int16_t *in, int16_t *out)
 {
     int16_t t;

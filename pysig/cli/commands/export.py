@@ -42,7 +42,7 @@ def table_header(model, name="tcomp"):
 #ifndef {up}_MODEL_H
 #define {up}_MODEL_H
 
-#include "sig_pwl.h"
+#include "sig_tmodel.h"
 
 #define {up}_N_AXES  {n}u
 #define {up}_N_KNOTS {k}u
@@ -54,9 +54,10 @@ def table_header(model, name="tcomp"):
 static const int16_t {name}_table[{n * k}] = {{ {flat} }};
 static const uint8_t {name}_value_frac[{n}] = {{ {', '.join(map(str, model.value_frac))} }};
 
-/* sig_pwl_q16 tab[{up}_N_AXES]; for each axis a:
- *   sig_pwl_init_q16(&tab[a], {name}_table + a * {up}_N_KNOTS, {up}_N_KNOTS,
- *                    {up}_T_LO, {up}_T_HI, {up}_RECIP, {name}_value_frac[a]); */
+/* sig_tmodel m;
+ * sig_tmodel_init_table(&m, {up}_N_AXES, {name}_table, {up}_N_KNOTS, {up}_T_LO, {up}_T_HI,
+ *                       {up}_RECIP, {name}_value_frac, {up}_TCODE);
+ * sig_tmodel_apply(&m, temperature_code, in, out);    (the 16 bits the sensor gives) */
 
 #endif /* {up}_MODEL_H */
 """
