@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import re
 import subprocess
 import sys
@@ -54,7 +55,7 @@ from pysig.tcomp.pwl import fit_pwl_q16  # noqa: E402
 from pysig.sim.chamber import ChamberParams, simulate  # noqa: E402
 
 HERE = Path(__file__).resolve().parent / "model_pareto"
-MPU_CSV = ROOT.parent / "shared" / "data" / "mpu6000_gyro_offset_vs_temp" / "mpu6000_sn102_gyro_offset.csv"
+MPU_CSV = Path(os.environ.get("PYSIG_SHARED_DATA", ROOT.parent / "shared" / "data")) / "mpu6000_gyro_offset_vs_temp" / "mpu6000_sn102_gyro_offset.csv"
 
 POLY_ORDERS = tuple(range(1, 9))
 PWL_KNOTS = (2, 3, 4, 5, 6, 8, 9, 12, 17, 24, 33, 48, 65, 97, 129, 184)

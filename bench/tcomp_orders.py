@@ -12,6 +12,7 @@ as RMS, max |error| and variance, on
 """
 import argparse
 import json
+import os
 import time
 from pathlib import Path
 
@@ -25,7 +26,7 @@ from pysig.sim import chamber as sim_chamber  # noqa: E402
 from pysig.errors import PysigError  # noqa: E402
 from pysig.io import read_csv  # noqa: E402
 
-DATA = ROOT.parent / "shared" / "data"
+DATA = Path(os.environ.get("PYSIG_SHARED_DATA", ROOT.parent / "shared" / "data"))
 ORDERS = range(1, 7)
 # recordings with a temperature: files, temperature column, reading columns, unit
 RECORDINGS = {

@@ -20,6 +20,11 @@
  *   - sig_pwl_load_image (storage in an exactly sized heap buffer, room
  *     fuzzed) writes nothing on error; loaded tables evaluate at any
  *     temperature within the storage;
+ *   - sig_tmodel_load_image (any family; storage exactly sized, room fuzzed)
+ *     leaves the model untouched on error, takes the family of the first
+ *     model section the image holds (compact, offset, table) and a valid
+ *     temperature-code section (kind 0/1, reserved 0, length 2) or none;
+ *     a loaded model applies at any code with only warning bits;
  *   - for an accepted image: any single bit flip outside the length field,
  *     and any truncation below total_len, is rejected; the A/B loader then
  *     keeps the good slot, and of two good slots picks the newer sequence. */
@@ -31,6 +36,7 @@
 #include "sig_pwl.h"
 #include "sig_tcomp.h"
 #include "sig_tcomp16.h"
+#include "sig_tmodel.h"
 
 #define REQUIRE(cond) do { if (!(cond)) abort(); } while (0)
 
@@ -183,6 +189,43 @@ static void check_pwl_loader(const uint8_t *buf, size_t len, sig_status image_st
     free(storage_before);
 }
 
+static void check_tmodel_loader(const uint8_t *buf, size_t len, sig_status image_status, fuzz_input *in)
+{
+    uint16_t room = (uint16_t)(fuzz_u8(in) & 1u ? 3u * 255u : fuzz_u16(in) % 800u);
+    int16_t *storage = malloc(room ? room * sizeof *storage : 1u), r[3], out[3];
+    sig_tmodel m, before;
+    const uint8_t *p;
+    uint16_t plen;
+    sig_status st;
+    int k;
+    memset(&m, 0x5A, sizeof m);
+    before = m;
+    st = sig_tmodel_load_image(&m, storage, room, buf, len);
+    if (st != SIG_OK) {
+        REQUIRE(st == SIG_ERR_FORMAT || st == SIG_ERR_CRC || st == SIG_ERR_EMPTY || st == SIG_ERR_ARG);
+        if (image_status != SIG_OK) REQUIRE(st == image_status);
+        REQUIRE(memcmp(&m, &before, sizeof m) == 0);
+        free(storage);
+        return;
+    }
+    REQUIRE(image_status == SIG_OK && m.n_axes >= 1 && m.n_axes <= 3 && m.code_kind <= SIG_TCODE_UINT16);
+    if (sig_image_find_section(buf, len, SIG_SECTION_TEMP_CODE, &p, &plen) == SIG_OK)
+        REQUIRE(plen == 2u && p[1] == 0u && p[0] == m.code_kind);
+    else REQUIRE(m.code_kind == SIG_TCODE_INT16);
+    if (sig_image_find_section(buf, len, SIG_SECTION_COMPACT_POLY, &p, &plen) == SIG_OK)
+        REQUIRE(m.family == SIG_TMODEL_COMPACT);
+    else if (sig_image_find_section(buf, len, SIG_SECTION_OFFSET_POLY, &p, &plen) == SIG_OK)
+        REQUIRE(m.family == SIG_TMODEL_POLY);
+    else REQUIRE(m.family == SIG_TMODEL_TABLE);
+    for (k = 0; k < 5; k++) {
+        uint16_t code = k == 0 ? 0u : k == 1 ? 0xFFFFu : k == 2 ? 0x8000u : fuzz_u16(in);
+        r[0] = fuzz_i16(in); r[1] = INT16_MIN; r[2] = INT16_MAX;
+        st = sig_tmodel_apply(&m, code, r, out);
+        REQUIRE(st >= 0 && (st & ~(SIG_WARN_CLAMPED | SIG_WARN_SATURATED)) == 0);
+    }
+    free(storage);
+}
+
 static void check_image(const uint8_t *img, size_t len, int sealed, fuzz_input *in)
 {
     uint8_t *buf = copy_exact(img, len);
@@ -197,7 +240,7 @@ static void check_image(const uint8_t *img, size_t len, int sealed, fuzz_input *
     REQUIRE(st == ref_validate(buf, len));
     if (sealed) REQUIRE(st == SIG_OK || st == SIG_ERR_FORMAT);   /* the CRC we wrote matches */
 
-    for (type = 1; type <= 8; type++) {
+    for (type = 1; type <= SIG_SECTION_TEMP_CODE; type++) {
         payload = NULL;
         plen = 0;
         st2 = sig_image_find_section(buf, len, (uint16_t)type, &payload, &plen);
@@ -223,6 +266,7 @@ static void check_image(const uint8_t *img, size_t len, int sealed, fuzz_input *
 
     check_tcomp16_loader(buf, len, st, in);
     check_pwl_loader(buf, len, st, in);
+    check_tmodel_loader(buf, len, st, in);
 
     if (st == SIG_OK) {
         size_t total = rd16(buf + 6), bit = fuzz_u16(in) % (total * 8u), cut = fuzz_u16(in) % total;
@@ -272,8 +316,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         check_image(img, len, 1, &in);
         free(img);
     } else {
-        uint8_t img[4096];
-        size_t pos = 12;
+        uint8_t img[4096], g;
+        size_t pos = 12, off_pos;
         uint8_t n_axes = fuzz_u8(&in), order = fuzz_u8(&in), extra = fuzz_u8(&in);
         unsigned a, k, plen, axes = 1u + n_axes % 3u, ord = 1u + order % 8u;
         if (extra & 0x80u) { axes = n_axes; ord = order; }    /* out-of-range counts too */
@@ -283,6 +327,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             img[pos + 4] = img[pos + 5] = img[pos + 6] = 0xEE;
             pos += 7;
         }
+        off_pos = pos;
         wr16(img + pos, SIG_SECTION_OFFSET_POLY);
         wr16(img + pos + 2, plen);
         img[pos + 4] = (uint8_t)axes;
@@ -368,6 +413,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 img[pos++] = fuzz_u8(&in) % 17u;
                 for (k = 0; k < knots; k++) { wr16(img + pos, fuzz_u16(&in)); pos += 2; }
             }
+        }
+        g = fuzz_u8(&in);
+        if (g & 1u) wr16(img + off_pos, 0x8001u);     /* the offset section hidden: table or compact family */
+        if (g & 2u) {                                  /* a temperature-code section, sometimes malformed */
+            unsigned clen = (g & 0x40u) ? 3u : 2u;
+            wr16(img + pos, SIG_SECTION_TEMP_CODE);
+            wr16(img + pos + 2, clen);
+            img[pos + 4] = (uint8_t)((g >> 2) % 3u);
+            img[pos + 5] = (g & 0x80u) ? fuzz_u8(&in) : 0u;
+            img[pos + 6] = 0u;
+            pos += 4u + clen;
         }
         pos += 2;
         seal(img, pos, (uint32_t)fuzz_take_bits(&in, 4));

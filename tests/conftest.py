@@ -13,7 +13,7 @@ import pytest
 from pysig.mcu.runner import CSRC, CSRC_INCLUDE, c_source, c_sources  # noqa: F401  (for the tests)
 
 ROOT = Path(__file__).resolve().parent.parent
-SHARED_DATA = ROOT.parent / "shared" / "data"
+SHARED_DATA = Path(os.environ.get("PYSIG_SHARED_DATA", ROOT.parent / "shared" / "data"))
 
 
 def require_tool(*names):

@@ -14,6 +14,7 @@ from pysig.sim import chamber as sim_chamber
 from pysig.cli import main
 from pysig.errors import InsufficientDataError, ModelFileError, NonFiniteError, RangeError
 from pysig.io import read_csv
+from pysig.reference import tcomp as ref_tcomp
 
 
 @pytest.fixture(scope="module")
@@ -112,7 +113,7 @@ def test_cli_round_trip_fit_export_image_c_evaluation(tmp_path, chamber_csv, cap
     x = np.column_stack([d[k] for k in "xyz"]).astype(np.int16)
     got, status = c.apply(t, x)
     for i in range(0, len(t), 97):
-        want, want_st = m.apply_fixed_reference(t[i], x[i])
+        want, want_st = ref_tcomp.apply_q(m.fixed_fields(), int(t[i]), [int(v) for v in x[i]])
         assert list(got[i]) == want and status[i] == want_st
     flt = np.column_stack(m.apply_float(t / 100.0, [x[:, a] for a in range(3)]))
     assert np.max(np.abs(got - flt)) <= 0.5 + max(m.error_bound_lsb)
@@ -129,7 +130,7 @@ def test_cli_round_trip_fit_export_image_c_evaluation(tmp_path, chamber_csv, cap
 def test_exported_c_header_compiles_and_matches_python(tmp_path, chamber_csv):
     gcc = require_tool("gcc")
     mj, hdr = tmp_path / "m.json", tmp_path / "cal.h"
-    assert main(["fit", str(chamber_csv), "--columns", "x,y,z", "-o", str(mj)]) == 0
+    assert main(["fit", str(chamber_csv), "--columns", "x,y,z", "--order", "2", "-o", str(mj)]) == 0
     assert main(["export", str(mj), "--format", "c", "--name", "cal", "-o", str(hdr)]) == 0
     m = tmodel.load(mj)
     temps = [-2000, 0, 1234, 2500, 4999, 7000, 9000]
@@ -163,7 +164,7 @@ int main(void) {
     lines = subprocess.run([str(exe)], capture_output=True, text=True, check=True).stdout.split("\n")
     for t, line in zip(temps, lines):
         v = line.split()
-        want, want_st = m.apply_fixed_reference(t, [1000, -2000, 3000])
+        want, want_st = ref_tcomp.apply_q(m.fixed_fields(), int(t), [1000, -2000, 3000])
         assert [int(s) for s in v[:4]] == [want_st] + want
         flt = [x[0] for x in m.apply_float(np.array([t / 100.0]), [[1000.0], [-2000.0], [3000.0]])]
         assert int(v[4]) == want_st
@@ -187,7 +188,7 @@ def test_cli_errors_have_their_exit_status_and_write_nothing(tmp_path, capsys, s
     if setup == "nan":
         rows[5] = "nan,3"
     inp.write_text("\n".join(rows) + "\n")
-    mdl.write_text(json.dumps({"format": "pysig-tcomp", "version": 2}))
+    mdl.write_text(json.dumps({"format": "pysig-tcomp", "version": 3}))
     argv = [str(inp) if a == "IN" else str(out) if a == "OUT" else str(mdl) if a == "MODEL" else a
             for a in args]
     assert main(argv) == status

@@ -100,6 +100,8 @@ def test_choose_scaling_keeps_u_in_q15_with_15_bits(t_lo, width):
     t_hi = min(32767, t_lo + width)
     s = quant.choose_scaling(t_lo, t_hi)
     assert 16384 <= s.u_mul <= 32767 or s.u_shift == 0
+    assert s.t_hi == t_hi and s.t_lo == (t_lo + 1 if t_hi - t_lo == 65535 else t_lo)
+    t_lo = s.t_lo
     for t in (t_lo, t_hi):
         u, _ = ref.scale_q(t, t_lo, t_hi, s.t_center, s.u_mul, s.u_shift)
         assert abs(u) <= 32767

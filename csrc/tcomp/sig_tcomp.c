@@ -98,14 +98,11 @@ static void copy_coef_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order, const int
     }
 }
 
-sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
-                            const int32_t *coef, const uint8_t *q,
-                            int16_t t_lo, int16_t t_hi, int16_t t_center, int16_t t0,
-                            int16_t u_mul, uint8_t u_shift)
+/* The checks of sig_tcomp_init_q that do not depend on the coefficients. */
+static sig_status check_params(uint8_t n_axes, uint8_t order, int16_t t_lo, int16_t t_hi,
+                               int16_t t_center, int16_t u_mul, uint8_t u_shift)
 {
-    uint8_t a;
     int32_t d_hi, d_lo;
-    if (m == NULL || coef == NULL || q == NULL) return SIG_ERR_ARG;
     if (n_axes < 1u || n_axes > SIG_TCOMP_MAX_AXES) return SIG_ERR_ARG;
     if (order < SIG_TCOMP_MIN_ORDER || order > SIG_TCOMP_MAX_ORDER) return SIG_ERR_ARG;
     if (t_lo >= t_hi || t_center < t_lo || t_center > t_hi) return SIG_ERR_ARG;
@@ -116,11 +113,16 @@ sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
     if (scale_wide(d_hi, u_mul, u_shift) > INT16_MAX ||
         scale_wide(d_lo, u_mul, u_shift) < -(int32_t)INT16_MAX)
         return SIG_ERR_ARG;
-    for (a = 0; a < n_axes; a++)
-        if (q[a] > SIG_TCOMP_MAX_Q) return SIG_ERR_ARG;
-    copy_coef_q(m, n_axes, order, coef);
+    return SIG_OK;
+}
+
+/* Everything but the coefficients (already in m->coef) and q (in m->q). */
+static void store_params(sig_tcomp_q *m, uint8_t n_axes, uint8_t order, int16_t t_lo, int16_t t_hi,
+                         int16_t t_center, int16_t t0, int16_t u_mul, uint8_t u_shift)
+{
+    uint8_t a;
     for (a = 0; a < SIG_TCOMP_MAX_AXES; a++) {
-        m->q[a] = a < n_axes ? q[a] : 0u;
+        if (a >= n_axes) m->q[a] = 0u;
         m->q_round[a] = m->q[a] > 0u ? (int32_t)1 << (m->q[a] - 1u) : 0;
     }
     m->u_mul32 = (int32_t)u_mul << (16u - u_shift);
@@ -133,6 +135,21 @@ sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
     m->order = order;
     m->n_axes = n_axes;
     m->no_overflow = cannot_overflow(m);
+}
+
+sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
+                            const int32_t *coef, const uint8_t *q,
+                            int16_t t_lo, int16_t t_hi, int16_t t_center, int16_t t0,
+                            int16_t u_mul, uint8_t u_shift)
+{
+    uint8_t a;
+    if (m == NULL || coef == NULL || q == NULL) return SIG_ERR_ARG;
+    if (check_params(n_axes, order, t_lo, t_hi, t_center, u_mul, u_shift) != SIG_OK) return SIG_ERR_ARG;
+    for (a = 0; a < n_axes; a++)
+        if (q[a] > SIG_TCOMP_MAX_Q) return SIG_ERR_ARG;
+    copy_coef_q(m, n_axes, order, coef);
+    for (a = 0; a < n_axes; a++) m->q[a] = q[a];
+    store_params(m, n_axes, order, t_lo, t_hi, t_center, t0, u_mul, u_shift);
     return SIG_OK;
 }
 
@@ -237,11 +254,12 @@ sig_status sig_tcomp_apply_f(const sig_tcomp_f *m, sig_real t, const sig_real *i
 
 sig_status sig_tcomp_load_image(sig_tcomp_q *m, const uint8_t *image, size_t len)
 {
+    /* Checked in full before anything is written, then parsed straight into
+     * *m: no copy of the coefficients on the stack (the 8051's is small). */
     const uint8_t *p;
-    uint16_t plen, pos;
+    uint16_t plen, pos, stride;
     uint8_t n_axes, order, a, k;
-    int32_t coef[SIG_TCOMP_MAX_AXES * (SIG_TCOMP_MAX_ORDER + 1u)];
-    uint8_t q[SIG_TCOMP_MAX_AXES];
+    int32_t *dst;
     sig_status st;
     if (m == NULL) return SIG_ERR_ARG;
     st = sig_image_find_section(image, len, SIG_SECTION_OFFSET_POLY, &p, &plen);
@@ -252,20 +270,23 @@ sig_status sig_tcomp_load_image(sig_tcomp_q *m, const uint8_t *image, size_t len
     if (n_axes < 1u || n_axes > SIG_TCOMP_MAX_AXES || order < SIG_TCOMP_MIN_ORDER ||
         order > SIG_TCOMP_MAX_ORDER || p[3] != 0u)
         return SIG_ERR_FORMAT;
-    if (plen != (uint16_t)(SIG_OFFSET_POLY_FIXED_LEN +
-                           (uint16_t)n_axes * (uint16_t)(1u + 4u * (uint16_t)(order + 1u))))
+    stride = (uint16_t)(1u + 4u * (uint16_t)(order + 1u));
+    if (plen != (uint16_t)(SIG_OFFSET_POLY_FIXED_LEN + (uint16_t)n_axes * stride))
         return SIG_ERR_FORMAT;
-    pos = SIG_OFFSET_POLY_FIXED_LEN;
-    for (a = 0; a < n_axes; a++) {
-        q[a] = p[pos++];
-        for (k = 0; k <= order; k++) {
-            coef[(uint16_t)a * (uint16_t)(order + 1u) + k] = sig_image_get_i32(p + pos);
-            pos = (uint16_t)(pos + 4u);
-        }
+    if (check_params(n_axes, order, sig_image_get_i16(p + 4), sig_image_get_i16(p + 6),
+                     sig_image_get_i16(p + 8), sig_image_get_i16(p + 12), p[2]) != SIG_OK)
+        return SIG_ERR_FORMAT;
+    for (a = 0; a < n_axes; a++)
+        if (p[SIG_OFFSET_POLY_FIXED_LEN + (uint16_t)a * stride] > SIG_TCOMP_MAX_Q) return SIG_ERR_FORMAT;
+    for (a = 0; a < SIG_TCOMP_MAX_AXES; a++) {
+        dst = m->coef[a];
+        for (k = 0; k <= SIG_TCOMP_MAX_ORDER; k++) dst[k] = 0;
+        if (a >= n_axes) continue;
+        pos = (uint16_t)(SIG_OFFSET_POLY_FIXED_LEN + (uint16_t)a * stride);
+        m->q[a] = p[pos++];
+        for (k = 0; k <= order; k++, pos = (uint16_t)(pos + 4u)) dst[k] = sig_image_get_i32(p + pos);
     }
-    st = sig_tcomp_init_q(m, n_axes, order, coef, q,
-                          sig_image_get_i16(p + 4), sig_image_get_i16(p + 6),
-                          sig_image_get_i16(p + 8), sig_image_get_i16(p + 10),
-                          sig_image_get_i16(p + 12), p[2]);
-    return st == SIG_ERR_ARG ? SIG_ERR_FORMAT : st;
+    store_params(m, n_axes, order, sig_image_get_i16(p + 4), sig_image_get_i16(p + 6),
+                 sig_image_get_i16(p + 8), sig_image_get_i16(p + 10), sig_image_get_i16(p + 12), p[2]);
+    return SIG_OK;
 }

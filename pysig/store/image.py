@@ -11,8 +11,6 @@ section of pysig.tcomp.quant.CompactModel (`compact_poly_payload`,
 import struct
 
 from ..errors import ModelFileError, RangeError
-from ..reference import image as ref
-from ..reference import tcomp16 as ref16
 
 SECTION_OFFSET_POLY = 1
 SECTION_GAIN_POLY = 2
@@ -21,13 +19,42 @@ SECTION_HYSTERESIS = 4
 SECTION_CREEP = 5
 SECTION_PWL_TABLE = 6
 SECTION_LINEAR_SCALE = 7
-SECTION_COMPACT_POLY = ref.SECTION_COMPACT_POLY
+SECTION_COMPACT_POLY = 8
+SECTION_TEMP_CODE = 10
 SECTION_EXPERIMENTAL = 0x8000
 OFFSET_POLY_FIXED_LEN = 14
-COMPACT_POLY_FIXED_LEN = ref.COMPACT_POLY_FIXED_LEN
+COMPACT_POLY_FIXED_LEN = 8
 
-_STATUS_TEXT = {ref.SIG_ERR_FORMAT: "bad magic, version, length or section layout",
-                ref.SIG_ERR_CRC: "CRC mismatch (corrupt or partly written)"}
+MAGIC = b"psig"
+FORMAT_VERSION = 1
+HEADER_LEN = 12
+SECTION_HDR_LEN = 4
+CRC_LEN = 2
+MIN_LEN = HEADER_LEN + CRC_LEN
+MAX_LEN = 65535
+
+#: temperature-code kinds of SECTION_TEMP_CODE (sig_tmodel.h)
+TCODE_INT16, TCODE_UINT16 = 0, 1
+
+
+def _crc_table():
+    table = []
+    for byte in range(256):
+        crc = byte << 8
+        for _ in range(8):
+            crc = ((crc << 1) ^ 0x1021) if crc & 0x8000 else (crc << 1)
+        table.append(crc & 0xFFFF)
+    return tuple(table)
+
+
+_CRC_TABLE = _crc_table()
+
+
+def crc16_ccitt(data, crc=0xFFFF):
+    """CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF), table driven."""
+    for byte in bytes(data):
+        crc = ((crc << 8) & 0xFFFF) ^ _CRC_TABLE[(crc >> 8) ^ byte]
+    return crc
 
 
 def build_image(sections, sequence=1):
@@ -38,21 +65,58 @@ def build_image(sections, sequence=1):
             raise ValueError(f"section type {t} outside 1..65535")
         if len(p) > 0xFFFF:
             raise ValueError(f"section {t}: payload of {len(p)} bytes exceeds 65535")
-    size = ref.MIN_LEN + sum(ref.SECTION_HDR_LEN + len(p) for _, p in sections)
-    if size > ref.MAX_LEN:
-        raise ValueError(f"image of {size} bytes exceeds {ref.MAX_LEN}")
+    size = MIN_LEN + sum(SECTION_HDR_LEN + len(p) for _, p in sections)
+    if size > MAX_LEN:
+        raise ValueError(f"image of {size} bytes exceeds {MAX_LEN}")
     if not 0 <= int(sequence) <= 0xFFFFFFFF:
         raise ValueError(f"sequence {sequence} outside uint32")
-    return ref.build(sections, int(sequence))
+    body = b"".join(struct.pack("<HH", t, len(p)) + p for t, p in sections)
+    data = MAGIC + struct.pack("<BBHI", FORMAT_VERSION, 0, size, int(sequence)) + body
+    return data + struct.pack("<H", crc16_ccitt(data))
+
+
+def _image_problem(data):
+    """None for a valid image, else what is wrong (the checks of sig_image_validate)."""
+    if len(data) < MIN_LEN or data[:4] != MAGIC or data[4] != FORMAT_VERSION or data[5] != 0:
+        return "bad magic, version, length or section layout"
+    total = struct.unpack_from("<H", data, 6)[0]
+    if not MIN_LEN <= total <= len(data):
+        return "bad magic, version, length or section layout"
+    end = total - CRC_LEN
+    if crc16_ccitt(data[:end]) != struct.unpack_from("<H", data, end)[0]:
+        return "CRC mismatch (corrupt or partly written)"
+    pos = HEADER_LEN
+    while pos < end:
+        if end - pos < SECTION_HDR_LEN:
+            return "bad magic, version, length or section layout"
+        typ, plen = struct.unpack_from("<HH", data, pos)
+        pos += SECTION_HDR_LEN + plen
+        if typ == 0 or pos > end:
+            return "bad magic, version, length or section layout"
+    return None
 
 
 def read_image(data, where="image"):
     """(sequence, [(type, payload)]) of a valid image; ModelFileError otherwise."""
     data = bytes(data)
-    st = ref.validate(data)
-    if st != ref.SIG_OK:
-        raise ModelFileError(f"{where}: corrupt coefficient image: {_STATUS_TEXT[st]}")
-    return ref.sequence(data), ref.sections(data)
+    problem = _image_problem(data)
+    if problem:
+        raise ModelFileError(f"{where}: corrupt coefficient image: {problem}")
+    end = struct.unpack_from("<H", data, 6)[0] - CRC_LEN
+    out, pos = [], HEADER_LEN
+    while pos < end:
+        typ, plen = struct.unpack_from("<HH", data, pos)
+        out.append((typ, data[pos + SECTION_HDR_LEN:pos + SECTION_HDR_LEN + plen]))
+        pos += SECTION_HDR_LEN + plen
+    return struct.unpack_from("<I", data, 8)[0], out
+
+
+def temp_code_payload(kind):
+    """Payload of SECTION_TEMP_CODE: how the firmware reads its temperature
+    code (TCODE_INT16 or TCODE_UINT16; sig_tmodel.h)."""
+    if kind not in (TCODE_INT16, TCODE_UINT16):
+        raise RangeError(f"temperature-code kind {kind!r} is not {TCODE_INT16} or {TCODE_UINT16}")
+    return struct.pack("<BB", kind, 0)
 
 
 def find_section(data, typ, where="image"):
@@ -102,24 +166,33 @@ def model_image(model, sequence=1, extra_sections=()):
 def compact_poly_payload(compact):
     """Payload of SECTION_COMPACT_POLY for a pysig.tcomp.quant.CompactModel (or the
     dict of its fields()); RangeError when sig_tcomp16_init would refuse it."""
+    from ..tcomp._tcomp16 import Tcomp16Q
     fields = compact.fields() if hasattr(compact, "fields") else compact
-    if not ref16.valid(fields):
+    try:
+        Tcomp16Q.from_fields(**fields)          # sig_tcomp16_init is the judge
+    except RangeError:
         raise RangeError("compact section: the fields are not a model sig_tcomp16_init accepts "
-                         "(axes 1..3, order 1..5, range, w_shift or the no-overflow bound)")
-    return ref.compact_payload(fields)
+                         "(axes 1..3, order 1..5, range, w_shift or the no-overflow bound)") from None
+    order = len(fields["add"][0])
+    out = struct.pack("<BBBBhh", len(fields["top"]), order, fields["w_shift"], 0,
+                      fields["t_lo"], fields["t_hi"])
+    for top, add in zip(fields["top"], fields["add"]):
+        out += struct.pack(f"<h{order}i", top, *add)
+    return out
 
 
 def parse_compact_poly(data, where="image"):
     """Fields of sig_tcomp16_init (top, add, t_lo, t_hi, w_shift) from the
     compact section of image bytes `data`: the checks of
     sig_tcomp16_load_image, as a ModelFileError naming what is wrong."""
+    from ..tcomp._tcomp16 import Tcomp16Q
     payload = find_section(data, SECTION_COMPACT_POLY, where)
-    st, fields = ref.load_compact(data)
-    if st != ref.SIG_OK:
+    try:
+        return Tcomp16Q.from_image(data, where=where).fields()     # the firmware's loader
+    except ModelFileError:
         raise ModelFileError(f"{where}: compact section of {len(payload)} bytes is malformed or holds "
                              f"a model sig_tcomp16_init rejects (counts, length, reserved byte, "
-                             f"range, w_shift or the no-overflow bound)")
-    return fields
+                             f"range, w_shift or the no-overflow bound)") from None
 
 
 def compact_image(compact, sequence=1, extra_sections=()):

@@ -28,6 +28,7 @@ from .. import lsq
 from . import quant
 from ..errors import InsufficientDataError, NonFiniteError, RangeError, SaturationError
 from .model import TcompModel
+from .tempcode import CELSIUS
 
 MAX_FIT_ORDER = 8
 GAP_C = 0.15
@@ -122,12 +123,27 @@ def require_temperatures(groups, order, temp, what="fit"):
             f"the highest order it supports is {groups.count - 1}")
 
 
-def fit_tcomp(temp, columns, order=2, t0=25.0, temp_column="temp", groups=None, what="fit"):
+def groups_for(temp, temp_code=CELSIUS):
+    """`temperature_groups` in the model's unit: for raw codes the °C
+    thresholds become fractions of the range (a gap of 0.25 % of it, pieces
+    of at most 8 %), as a code's size in °C is not known."""
+    x = temp_code.domain(temp)
+    if temp_code.unit == "c":
+        return temperature_groups(x)
+    span = float(np.ptp(x)) if x.size else 0.0
+    return temperature_groups(x, gap=max(1.0, 0.0025 * span), max_span=max(2.0, 0.08 * span))
+
+
+def fit_tcomp(temp, columns, order=2, t0=25.0, temp_column="temp", groups=None, what="fit",
+              temp_code=CELSIUS, max_error_lsb=None):
     """Fit the compensation model. `columns`: dict name -> readings (1..3).
-    `order` an int 1..8 or "auto" (cross-validated, see `select_order`)."""
+    `order` an int 1..8 or "auto" (cross-validated, see `select_order`).
+    `temp_code` (pysig.tcomp.tempcode) says whether `temp` (and `t0`) are °C
+    or raw codes; `max_error_lsb` (a number or a dict per column) is the
+    fixed-point error the model may have (default quant.MAX_ERROR_LSB)."""
     temp, columns = check_inputs(temp, columns, what)
     if groups is None:
-        groups = temperature_groups(temp)
+        groups = groups_for(temp, temp_code)
     cv = None
     if order == "auto":
         require_temperatures(groups, 1, temp, what)
@@ -137,25 +153,29 @@ def fit_tcomp(temp, columns, order=2, t0=25.0, temp_column="temp", groups=None, 
         raise RangeError(f"{what}: order must be 1..{MAX_FIT_ORDER} or 'auto', got {order!r}")
     order = int(order)
     require_temperatures(groups, order, temp, what)
-    t_centi = quant.to_centi(temp, what)
-    scaling = quant.choose_scaling(int(t_centi.min()), int(t_centi.max()))
-    lo, hi = scaling.t_lo / quant.T_PER_DEGC, scaling.t_hi / quant.T_PER_DEGC
+    t_int = temp_code.to_t(temp, "raise", what)
+    scaling = quant.choose_scaling(int(t_int.min()), int(t_int.max()), temp_code.units_per_degree)
+    lo, hi = scaling.t_lo / scaling.units_per, scaling.t_hi / scaling.units_per
+    t0_user, t0 = t0, float(temp_code.domain(t0))
     if not lo <= t0 <= hi:
-        raise RangeError(f"{what}: reference temperature T0 = {t0} °C is outside the calibrated "
-                         f"range {lo:.2f}..{hi:.2f} °C")
+        raise RangeError(f"{what}: reference temperature T0 = {t0_user} {temp_code.name} is outside the "
+                         f"calibrated range {temp_code.label(lo)}..{temp_code.label(hi)}")
+    x = temp_code.domain(temp)
     u0 = (t0 - scaling.center_c) / scaling.scale_c
     coef, f_t0, q, coef_q, bound, per_axis = [], [], [], [], [], {}
     for name, y in columns.items():
-        pf = lsq.fit_poly(temp, y, order, center=scaling.center_c, scale=scaling.scale_c,
+        pf = lsq.fit_poly(x, y, order, center=scaling.center_c, scale=scaling.scale_c,
                           what=f"{what} column '{name}'")
         ft0 = float(np.polynomial.polynomial.polyval(u0, pf.coef))
         c = np.array(pf.coef, dtype=float)
         c[0] -= ft0
         qa = quant.quantize_axis(c, what=f"{what} column '{name}'")
-        if qa.error_bound_lsb > quant.MAX_ERROR_LSB:
+        limit = quant.MAX_ERROR_LSB if max_error_lsb is None else (
+            max_error_lsb[name] if isinstance(max_error_lsb, dict) else float(max_error_lsb))
+        if qa.error_bound_lsb > limit:
             raise RangeError(
                 f"{what} column '{name}': the fixed-point correction could be off by up to "
-                f"{qa.error_bound_lsb:.2f} LSB (> {quant.MAX_ERROR_LSB}): the drift is too steep for "
+                f"{qa.error_bound_lsb:.2f} LSB (> {limit:.3g}): the drift is too steep for "
                 f"a Q15 temperature (swing {float(np.sum(np.abs(c[1:]))):.0f} LSB over the range)")
         coef.append(c)
         f_t0.append(ft0)
@@ -171,7 +191,7 @@ def fit_tcomp(temp, columns, order=2, t0=25.0, temp_column="temp", groups=None, 
         report["order_rule"] = "smallest order whose pooled held-out variance is within 5 % of the best"
     return TcompModel(axes=list(columns), order=order, t0=float(t0), scaling=scaling, coef=coef,
                       f_t0=f_t0, q=q, coef_q=coef_q, error_bound_lsb=bound,
-                      temp_column=temp_column, report=report)
+                      temp_column=temp_column, report=report, temp_code=temp_code)
 
 
 def cross_validate(temp, columns, orders=range(1, MAX_FIT_ORDER + 1), groups=None):

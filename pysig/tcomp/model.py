@@ -23,10 +23,15 @@ import numpy as np
 from ..errors import ModelFileError, NonFiniteError
 from ..io import atomic_output
 from .quant import T_PER_DEGC, TemperatureScaling
-from ..reference import tcomp as ref
+from .tempcode import CELSIUS, TempCode
+
+MAX_AXES = 3
+MAX_ORDER = 8
+MAX_Q = 30
 
 FORMAT = "pysig-tcomp"
 VERSION = 1
+VERSION_TABLES = 2   # adds "family" (poly / table), "temp" (pysig.tcomp.tempcode) and "value_scale"
 CHECKSUM_KEY = "checksum"
 
 
@@ -50,19 +55,28 @@ class TcompModel:
     error_bound_lsb: list      # per axis: bound of |delta_fixed - delta_float|
     temp_column: str = "temp"
     report: dict = field(default_factory=dict)
+    temp_code: TempCode = CELSIUS   # how the temperature column maps to the firmware's int16 t
+    value_scale: float = 1.0        # firmware reading code = column value * value_scale
+
+    family = "poly"
+
+    @property
+    def size(self):
+        return self.order
 
     # ---- ranges -----------------------------------------------------------
     @property
     def t_lo(self):
-        return self.scaling.t_lo / T_PER_DEGC
+        return self.scaling.t_lo / self.scaling.units_per
 
     @property
     def t_hi(self):
-        return self.scaling.t_hi / T_PER_DEGC
+        return self.scaling.t_hi / self.scaling.units_per
 
     # ---- float path (numpy) ------------------------------------------------
     def u_of(self, temp):
-        t = np.clip(np.asarray(temp, dtype=float), self.t_lo, self.t_hi)
+        """u of temperatures in the model's unit (°C or raw codes), clamped."""
+        t = np.clip(self.temp_code.domain(temp), self.t_lo, self.t_hi)
         return (t - self.scaling.center_c) / self.scaling.scale_c
 
     def delta(self, temp, axis):
@@ -70,7 +84,7 @@ class TcompModel:
         return np.polynomial.polynomial.polyval(self.u_of(temp), self.coef[axis])
 
     def clamped(self, temp):
-        t = np.asarray(temp, dtype=float)
+        t = self.temp_code.domain(temp)
         return (t < self.t_lo) | (t > self.t_hi)
 
     def apply_float(self, temp, readings):
@@ -84,21 +98,17 @@ class TcompModel:
     def fixed_fields(self):
         s = self.scaling
         return {"coef": [list(c) for c in self.coef_q], "q": list(self.q), "t_lo": s.t_lo,
-                "t_hi": s.t_hi, "t_center": s.t_center, "t0": int(round(self.t0 * T_PER_DEGC)),
+                "t_hi": s.t_hi, "t_center": s.t_center, "t0": int(round(self.t0 * self.scaling.units_per)),
                 "u_mul": s.u_mul, "u_shift": s.u_shift}
 
     def float_fields(self):
         return {"coef": [list(c) for c in self.coef], "t_lo": self.t_lo, "t_hi": self.t_hi,
                 "center": self.scaling.center_c, "inv_scale": 1.0 / self.scaling.scale_c}
 
-    def apply_fixed_reference(self, t_centi, readings):
-        """Pure-Python fixed-point path (the spec) for one sample."""
-        return ref.apply_q(self.fixed_fields(), int(t_centi), [int(x) for x in readings])
-
     # ---- JSON --------------------------------------------------------------
     def to_dict(self):
         s = self.scaling
-        return {"format": FORMAT, "version": VERSION, "axes": list(self.axes),
+        d = {"format": FORMAT, "version": VERSION, "axes": list(self.axes),
                 "temp_column": self.temp_column, "order": self.order, "t0_c": self.t0,
                 "range_c": [self.t_lo, self.t_hi],
                 "float": {"center_c": s.center_c, "scale_c": s.scale_c,
@@ -109,6 +119,11 @@ class TcompModel:
                           "q": list(self.q), "coef": [list(map(int, c)) for c in self.coef_q],
                           "error_bound_lsb": list(map(float, self.error_bound_lsb))},
                 "report": self.report}
+        if self.temp_code != CELSIUS or self.value_scale != 1.0:
+            d.update(version=2, family="poly", temp=self.temp_code.to_dict(),
+                     value_scale=float(self.value_scale))
+            d["fixed"]["temp_unit"] = "0.01 degC" if self.temp_code.unit == "c" else "raw code"
+        return d
 
     def save(self, path):
         d = self.to_dict()
@@ -123,9 +138,12 @@ def from_dict(d, where="model", verify_checksum=False):
         raise ModelFileError(f"{where}: not a pysig temperature-compensation model "
                              f"(format {d.get('format') if isinstance(d, dict) else None!r}, "
                              f"expected {FORMAT!r})")
-    if d.get("version") != VERSION:
+    if d.get("version") not in (VERSION, VERSION_TABLES):
         raise ModelFileError(f"{where}: model version {d.get('version')!r} is not supported "
                              f"(this pysig reads version {VERSION})")
+    if d.get("family", "poly") != "poly":
+        raise ModelFileError(f"{where}: a {d.get('family')!r} model, not a polynomial: "
+                             f"read it with pysig.tcomp.tmodel.load")
     if verify_checksum:
         if CHECKSUM_KEY not in d:
             raise ModelFileError(f"{where}: no checksum (written by an older pysig, or edited): "
@@ -140,24 +158,26 @@ def from_dict(d, where="model", verify_checksum=False):
         fx, fl = d["fixed"], d["float"]
         order = int(d["order"])
         axes = list(d["axes"])
+        temp_code = TempCode.from_dict(d["temp"]) if "temp" in d else CELSIUS
         scaling = TemperatureScaling(int(fx["t_lo"]), int(fx["t_hi"]), int(fx["t_center"]),
-                                     int(fx["u_mul"]), int(fx["u_shift"]))
+                                     int(fx["u_mul"]), int(fx["u_shift"]), temp_code.units_per_degree)
         model = TcompModel(axes=axes, order=order, t0=float(d["t0_c"]), scaling=scaling,
                            coef=[np.array(c, dtype=float) for c in fl["coef"]],
                            f_t0=[float(v) for v in fl["f_t0"]],
                            q=[int(v) for v in fx["q"]], coef_q=[tuple(int(v) for v in c) for c in fx["coef"]],
                            error_bound_lsb=[float(v) for v in fx.get("error_bound_lsb", [0.0] * len(axes))],
-                           temp_column=str(d.get("temp_column", "temp")), report=d.get("report", {}))
+                           temp_column=str(d.get("temp_column", "temp")), report=d.get("report", {}),
+                           temp_code=temp_code, value_scale=float(d.get("value_scale", 1.0)))
     except (KeyError, TypeError, ValueError) as exc:
         raise ModelFileError(f"{where}: malformed model: {exc!r}") from None
     n = len(axes)
-    if not 1 <= n <= ref.MAX_AXES or not 1 <= order <= ref.MAX_ORDER:
+    if not 1 <= n <= MAX_AXES or not 1 <= order <= MAX_ORDER:
         raise ModelFileError(f"{where}: {n} axes / order {order} (supported: 1..3 axes, order 1..8)")
     for name, rows in (("float coef", model.coef), ("fixed coef", model.coef_q)):
         if len(rows) != n or any(len(r) != order + 1 for r in rows):
             raise ModelFileError(f"{where}: {name} must be {n} rows of {order + 1} values")
-    if len(model.q) != n or any(not 0 <= v <= ref.MAX_Q for v in model.q):
-        raise ModelFileError(f"{where}: q must be {n} values in 0..{ref.MAX_Q}")
+    if len(model.q) != n or any(not 0 <= v <= MAX_Q for v in model.q):
+        raise ModelFileError(f"{where}: q must be {n} values in 0..{MAX_Q}")
     if not all(math.isfinite(v) for row in model.coef for v in row):
         raise ModelFileError(f"{where}: non-finite float coefficient")
     if not -32768 <= scaling.t_lo < scaling.t_hi <= 32767:

@@ -21,11 +21,10 @@ import struct
 from ..errors import InsufficientDataError, ModelFileError, NonFiniteError, RangeError
 from ..store.image import SECTION_PWL_TABLE, build_image, find_section
 from ..lsq import fit_linear_model
-from ..reference import pwl as ref
 
-FRAC_BITS = ref.FRAC_BITS
-MIN_KNOTS = ref.MIN_KNOTS
-MAX_KNOTS = ref.MAX_KNOTS
+FRAC_BITS = 12          # SIG_PWL_FRAC_BITS
+MIN_KNOTS = 2
+MAX_KNOTS = 255
 #: the int16 temperature unit of the temperature-compensation module
 #: (csrc/sig_tcomp.h, SIG_TCOMP_T_PER_DEGC): 0.01 °C.
 TEMP_UNITS_PER_C = 100
@@ -92,7 +91,7 @@ class PwlQ16:
 
     def knots_c(self):
         """Exact knot temperatures in °C."""
-        return (self.t_lo + np.asarray(ref.knot_offsets_q16(self.n_knots, self.recip))) \
+        return (self.t_lo + np.asarray(knot_offsets_q16(self.n_knots, self.recip))) \
             / self.units_per_c
 
     def temp_int(self, temp_c):
@@ -111,12 +110,32 @@ class PwlQ16:
 
 
 def temp_to_int(temp_c, units_per_c):
-    """°C -> int16 temperature units: rounded to nearest (half to even, as
-    pysig.tcomp.quant.to_centi), saturated to int16 (the C then clamps and flags)."""
+    """°C -> int16 temperature units: rounded to nearest (half to even),
+    saturated to int16 (the rule of pysig.tcomp.tempcode for applying a
+    model: the C then clamps and flags)."""
+    from .tempcode import to_int16
     x = np.asarray(temp_c, dtype=float) * float(units_per_c)
     if not np.all(np.isfinite(x)):
         raise NonFiniteError("pwl: non-finite temperature")
-    return np.clip(np.rint(x), -32768, 32767).astype(np.int16)
+    return to_int16(x, "saturate").astype(np.int16)
+
+
+def knot_offsets_q16(n_knots, recip):
+    """Exact knot positions as offsets from t_lo, in temperature units: knot
+    k where d * recip / 2^32 == k."""
+    return [k * float(1 << 32) / recip for k in range(n_knots)]
+
+
+def params_valid_q16(n_knots, t_lo, t_hi, recip, value_frac):
+    """True when sig_pwl_init_q16 (the C itself) accepts the parameters."""
+    if not (MIN_KNOTS <= n_knots <= MAX_KNOTS and -32768 <= t_lo <= 32767 and -32768 <= t_hi <= 32767
+            and 0 < recip < 1 << 32 and 0 <= value_frac <= 15):
+        return False
+    try:
+        _pwl.eval_q16(np.zeros(n_knots, np.int16), t_lo, t_hi, recip, value_frac, np.zeros(0, np.int16))
+    except RangeError:
+        return False
+    return True
 
 
 def _check_data(temp, y, what):
@@ -239,7 +258,7 @@ def plan_q16(t_lo, t_hi, n_knots, what="pwl"):
         raise RangeError(f"{what}: {n_knots} knots over {span} temperature units would be closer "
                          f"than one unit; use fewer knots")
     recip = ((int(n_knots) - 1) << 32) // span
-    if not ref.params_valid_q16(int(n_knots), int(t_lo), int(t_hi), recip, 0):
+    if not params_valid_q16(int(n_knots), int(t_lo), int(t_hi), recip, 0):
         raise RangeError(f"{what}: no valid position mapping for {n_knots} knots over {span} units")
     return recip
 
@@ -270,7 +289,7 @@ def fit_pwl_q16(temp, y, n_knots, units_per_c=TEMP_UNITS_PER_C, lo=None, hi=None
         raise RangeError(f"{what}: range [{lo:g}, {hi:g}] °C is not an int16 span in units of "
                          f"1/{scale:g} °C")
     recip = plan_q16(t_lo, t_hi, n_knots, what)
-    knots = (t_lo + np.asarray(ref.knot_offsets_q16(int(n_knots), recip))) / scale
+    knots = (t_lo + np.asarray(knot_offsets_q16(int(n_knots), recip))) / scale
     values, _ = _solve(temp, y, knots, bridge, what)
     table, vf = quantize_values(values, what)
     tab = PwlQ16(table=table, t_lo=t_lo, t_hi=t_hi, recip=recip, value_frac=vf,
@@ -320,7 +339,7 @@ def parse_pwl_payload(payload, units_per_c=TEMP_UNITS_PER_C, where="image"):
     for a in range(axes):
         off = PAYLOAD_FIXED_LEN + a * stride
         vf = payload[off]
-        if not ref.params_valid_q16(n, t_lo, t_hi, recip, vf):
+        if not params_valid_q16(n, t_lo, t_hi, recip, vf):
             raise ModelFileError(f"{where}: table {a}: invalid parameters (t_lo {t_lo}, t_hi "
                                  f"{t_hi}, recip {recip}, value_frac {vf})")
         table = np.array(struct.unpack_from(f"<{n}h", payload, off + 1), dtype=np.int16)

@@ -37,32 +37,36 @@ class TemperatureScaling:
     t_center: int
     u_mul: int
     u_shift: int
+    units_per: int = T_PER_DEGC   # t counts per unit of the float abscissa (100: 0.01 °C; 1: raw codes)
 
     @property
     def scale_c(self):
         """°C per unit of u in the float model."""
-        return (1 << (self.u_shift + 15)) / self.u_mul / T_PER_DEGC
+        return (1 << (self.u_shift + 15)) / self.u_mul / self.units_per
 
     @property
     def center_c(self):
-        return self.t_center / T_PER_DEGC
+        return self.t_center / self.units_per
 
 
 def to_centi(temp_c, what="temperature"):
-    """°C -> int16 counts of 0.01 °C (rounded); RangeError outside int16."""
-    t = np.rint(np.asarray(temp_c, dtype=float) * T_PER_DEGC)
-    if t.size and (t.min() < -32768 or t.max() > 32767):
-        raise RangeError(f"{what}: {float(np.max(np.abs(temp_c)))} °C does not fit an int16 "
-                         f"in 0.01 °C (-327.68 .. 327.67 °C)")
-    return t.astype(np.int64)
+    """°C -> int16 counts of 0.01 °C (rounded); RangeError outside int16
+    (pysig.tcomp.tempcode states the out-of-range rule)."""
+    from .tempcode import CELSIUS
+    return CELSIUS.to_t(temp_c, "raise", what)
 
 
-def choose_scaling(t_lo, t_hi):
-    """Scaling for a calibrated range [t_lo, t_hi] in 0.01 °C (ints)."""
+def choose_scaling(t_lo, t_hi, units_per=T_PER_DEGC):
+    """Scaling for a calibrated range [t_lo, t_hi] of int16 t (ints; t
+    counts `units_per` per unit of the float abscissa: 100 for 0.01 °C)."""
     t_lo, t_hi = int(t_lo), int(t_hi)
     if not (-32768 <= t_lo < t_hi <= 32767):
         raise RangeError(f"calibrated range [{t_lo}, {t_hi}] (0.01 °C) must satisfy "
                          f"-32768 <= t_lo < t_hi <= 32767")
+    if t_hi - t_lo == 65535:
+        # the whole int16 span: |t - t_center| <= 32767 needs one code less;
+        # the lowest code is then clamped (and flagged) like any outside one
+        t_lo += 1
     t_center = (t_lo + t_hi) // 2
     half = max(t_hi - t_center, t_center - t_lo)
     if half > INT16_MAX:
@@ -70,7 +74,7 @@ def choose_scaling(t_lo, t_hi):
     for shift in range(30, -1, -1):
         u_mul = (INT16_MAX << shift) // half
         if u_mul <= INT16_MAX:
-            return TemperatureScaling(t_lo, t_hi, t_center, u_mul, shift)
+            return TemperatureScaling(t_lo, t_hi, t_center, u_mul, shift, int(units_per))
     raise AssertionError("unreachable: shift 0 gives u_mul <= 32767 for half >= 1")
 
 
@@ -139,8 +143,8 @@ def _compose_in_v(coef, scaling, what):
     polynomial in u = (T - center) / scale, rewritten in v = t - t_lo."""
     center = Fraction(scaling.center_c)
     scale = Fraction(scaling.scale_c)
-    alpha = (Fraction(scaling.t_lo, T_PER_DEGC) - center) / scale       # u at v = 0
-    beta = 1 / (T_PER_DEGC * scale)                                       # du / dv
+    alpha = (Fraction(scaling.t_lo, scaling.units_per) - center) / scale       # u at v = 0
+    beta = 1 / (scaling.units_per * scale)                                       # du / dv
     d = [Fraction(0)] * len(coef)
     power = [Fraction(1)]                                                 # (alpha + beta v)^k
     for k, c in enumerate(coef):
@@ -173,6 +177,15 @@ def compact_eval(top, add, w_shift, v):
     return (h * v + int(add[-1]) - (1 << 15)) / 65536.0
 
 
+def _compact_axis_accepted(cls, top, add, scaling, w_shift):
+    """True when sig_tcomp16_init accepts one axis (its no-overflow bound)."""
+    try:
+        cls.from_fields([top], [list(add)], scaling.t_lo, scaling.t_hi, w_shift)
+    except RangeError:
+        return False
+    return True
+
+
 def quantize_compact(model, max_error_lsb=COMPACT_MAX_ERROR_LSB, what="compact form"):
     """CompactModel for a TcompModel (pysig.tcomp.model), or RangeError naming the
     axis and the limit it breaks: order above 5, a range wider than 327.67 °C
@@ -180,7 +193,7 @@ def quantize_compact(model, max_error_lsb=COMPACT_MAX_ERROR_LSB, what="compact f
     hold (sig_tcomp16_init's bound: e.g. a slope of 50 LSB/°C or more), or a
     measured error above max_error_lsb.  The error is measured exactly, at
     every 0.01 °C of the range, against the model's float64 delta."""
-    from ..reference import tcomp16 as ref16
+    from ._tcomp16 import Tcomp16Q
     s = model.scaling
     order = int(model.order)
     if not 1 <= order <= COMPACT_MAX_ORDER:
@@ -196,7 +209,7 @@ def quantize_compact(model, max_error_lsb=COMPACT_MAX_ERROR_LSB, what="compact f
     for _ in range(order - 1):
         exps.append(exps[-1] + 16 - w_shift)              # exps[k-1] = E_k
     v = np.arange(v_max + 1, dtype=np.int64)
-    temp = (s.t_lo + v) / T_PER_DEGC
+    temp = (s.t_lo + v) / s.units_per
     tops, adds, errors = [], [], []
     for axis, name in enumerate(model.axes):
         where = f"{what}, axis '{name}'"
@@ -206,14 +219,15 @@ def quantize_compact(model, max_error_lsb=COMPACT_MAX_ERROR_LSB, what="compact f
                for k in range(order - 1, 0, -1)]
         add.append(_round_fraction(d[0] * 65536) + (1 << 15))
         if not -32768 <= top <= 32767 or not all(-(1 << 31) <= c <= INT32_MAX for c in add) \
-                or not ref16.fits(top, add, v_max, v_max << w_shift):
+                or not _compact_axis_accepted(Tcomp16Q, top, add, s, w_shift):
             slope = max(abs(float(sum(k * d[k] * Fraction(int(x)) ** (k - 1)
                                       for k in range(1, order + 1)))) for x in (0, v_max)) * 100
             raise RangeError(
                 f"{where}: the drift does not fit the int16 levels of the compact form "
                 f"(slope up to {slope:.3g} LSB/°C at the range ends; the form holds Horner "
                 f"partial sums below 0.5 LSB per 0.01 °C^k): use the int32 form (sig_tcomp)")
-        err = float(np.max(np.abs(compact_eval(top, add, w_shift, v) - model.delta(temp, axis))))
+        user_temp = model.temp_code.from_domain(temp) if hasattr(model, "temp_code") else temp
+        err = float(np.max(np.abs(compact_eval(top, add, w_shift, v) - model.delta(user_temp, axis))))
         if err > max_error_lsb:
             raise RangeError(f"{where}: compact quantisation error {err:.3f} LSB exceeds "
                              f"{max_error_lsb} LSB over {s.t_lo / 100:.2f}..{s.t_hi / 100:.2f} °C "

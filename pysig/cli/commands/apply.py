@@ -3,17 +3,19 @@
 Apply a temperature-compensation model: OUT.csv is IN.csv's columns plus
 <axis>_comp for each model axis and `tcomp_clamped` (1 where the temperature
 was outside the calibrated range and was clamped to it).  The default is the
-float64 model; --fixed runs the firmware's fixed-point C code (temperature
-rounded to 0.01 °C, readings must be int16).  Given a coefficient image
-(`pysig export --format image`), the firmware's C loader parses it and the
-fixed-point path runs: sig_tcomp16 when the image holds the compact section
-(`export --compact`), sig_tcomp otherwise; the image names no columns, so
---temp and --columns say which to use."""
+float64 model; --fixed runs the firmware's fixed-point C code on the model's
+image (sig_tmodel_load_image + sig_tmodel_apply: temperature rounded to the
+model's int16 unit, readings x value scale must be int16).  Given a
+coefficient image (`pysig export --format image`) the firmware's C loader
+reads it, whatever model family it holds; the image names no columns and
+no units, so --temp and --columns say which to use, --temp-unit raw passes
+the column's integer codes to the firmware as they are, and --value-scale
+says what multiplies a reading into the firmware's int16 code."""
 import numpy as np
 
-from ...tcomp import model as tmodel
-from ...tcomp import quant
-from ...errors import InputFileError, ModelFileError, NonFiniteError, RangeError
+from ...tcomp import tmodel
+from ...tcomp.tempcode import CELSIUS, TempCode
+from ...errors import InputFileError
 from ...io import read_csv, write_csv
 
 
@@ -25,35 +27,24 @@ def register(sub):
     p.add_argument("--fixed", action="store_true", help="use the fixed-point C path")
     p.add_argument("--temp", help="temperature column (default: the model's)")
     p.add_argument("--columns", help="reading columns, comma separated (default: the model's axes)")
+    p.add_argument("--temp-unit", choices=("c", "raw"), default=None,
+                   help="an image's temperature column: c (°C, default) or raw integer codes")
+    p.add_argument("--value-scale", type=float, default=None,
+                   help="an image's reading scale: firmware int16 = value x this (default 1)")
     p.add_argument("-o", "--output", required=True, metavar="OUT.csv")
     p.set_defaults(func=run)
 
 
 def compensate(model, temp, readings, fixed=False):
     """(list of corrected arrays, clamped flags) for readings per axis."""
+    if fixed:
+        return tmodel.apply_fixed(model, temp, readings)
     temp = np.asarray(temp, dtype=float)
     bad = np.flatnonzero(~np.isfinite(temp))
     if bad.size:
+        from ...errors import NonFiniteError
         raise NonFiniteError(f"apply: temperature: non-finite value at index {int(bad[0])}")
-    if not fixed:
-        return model.apply_float(temp, readings), model.clamped(temp)
-    from ...tcomp._tcomp import TcompQ
-    return compensate_fixed(TcompQ.from_fields(**model.fixed_fields()), temp, readings)
-
-
-def compensate_fixed(c, temp, readings):
-    """The C fixed-point path (a TcompQ or Tcomp16Q): temperature to 0.01 °C (clipped to
-    int16, then clamped and flagged by C), readings must be int16."""
-    temp = np.asarray(temp, dtype=float)
-    bad = np.flatnonzero(~np.isfinite(temp))
-    if bad.size:
-        raise NonFiniteError(f"apply: temperature: non-finite value at index {int(bad[0])}")
-    x = np.column_stack(readings)
-    if np.any(x != np.round(x)) or x.min() < -32768 or x.max() > 32767:
-        raise RangeError("apply: the fixed-point path needs integer int16 readings")
-    t = quant.to_centi(np.clip(temp, -327.68, 327.67))
-    out, status = c.apply(t, x)
-    return [out[:, a].astype(np.int64) for a in range(out.shape[1])], (status & 1).astype(bool)
+    return tmodel.apply_float(model, temp, readings)
 
 
 def is_image(path):
@@ -64,54 +55,47 @@ def is_image(path):
         return False
 
 
-def load_image(data, where):
-    """The C model of a coefficient image: Tcomp16Q when it holds the compact
-    section, else TcompQ; the C loaders decide what is valid."""
-    from ...tcomp._tcomp import TcompQ, image_find_section
-    from ...tcomp._tcomp16 import Tcomp16Q
-    from ...store.image import SECTION_COMPACT_POLY, SECTION_OFFSET_POLY
-    st = image_find_section(data, SECTION_COMPACT_POLY)[0]
-    if st == 0:
-        return Tcomp16Q.from_image(data, where=where)
-    if st == -5 and image_find_section(data, SECTION_OFFSET_POLY)[0] == -5:
-        raise ModelFileError(f"{where}: the image holds neither an offset-polynomial nor a compact section")
-    return TcompQ.from_image(data, where=where)
-
-
 def run(args):
     image = is_image(args.model)
     if image:
         with open(args.model, "rb") as fh:
-            c = load_image(fh.read(), args.model)
+            data_img = fh.read()
+        from ...tcomp._tmodel import TModel
+        c = TModel.from_image(data_img, where=args.model)      # the firmware's loader judges it first
         if not (args.temp and args.columns):
             raise InputFileError(f"apply: {args.model} is a coefficient image, which names no columns: "
                                  f"give --temp and --columns")
         temp_col, axes = args.temp, [x.strip() for x in args.columns.split(",") if x.strip()]
         if len(axes) != c.n_axes:
             raise InputFileError(f"apply: the image has {c.n_axes} axes, --columns names {len(axes)}")
-        f = c.fields()
-        lo, hi = f["t_lo"] / quant.T_PER_DEGC, f["t_hi"] / quant.T_PER_DEGC
+        temp_code = TempCode(unit="raw") if args.temp_unit == "raw" else CELSIUS
     else:
+        if args.temp_unit is not None or args.value_scale is not None:
+            raise InputFileError("apply: --temp-unit and --value-scale are for images; a JSON model "
+                                 "carries its own")
         model = tmodel.load(args.model)
         temp_col = args.temp or model.temp_column
         axes = [x.strip() for x in args.columns.split(",")] if args.columns else model.axes
         if len(axes) != len(model.axes):
             raise InputFileError(f"apply: the model has {len(model.axes)} axes, --columns names {len(axes)}")
-        lo, hi = model.t_lo, model.t_hi
     data = read_csv(args.input)
     missing = [col for col in [temp_col] + axes if col not in data]
     if missing:
         raise InputFileError(f"{args.input}: missing column(s) {', '.join(missing)} needed by the model "
                              f"(columns are: {', '.join(data)})")
+    readings = [data[a] for a in axes]
     if image:
-        corrected, clamped = compensate_fixed(c, data[temp_col], [data[a] for a in axes])
+        corrected, clamped = tmodel.apply_image(data_img, data[temp_col], readings, temp_code,
+                                                args.value_scale or 1.0, where=args.model)
+        how = f"the C loader ({c.family} model, {c.code_kind} temperature code)"
     else:
-        corrected, clamped = compensate(model, data[temp_col], [data[a] for a in axes], fixed=args.fixed)
+        corrected, clamped = compensate(model, data[temp_col], readings, fixed=args.fixed)
+        how = f"{model.family} model, {'fixed-point C' if args.fixed else 'float64'}"
     out = dict(data)
     for name, values in zip(axes, corrected):
         out[name + "_comp"] = values
     out["tcomp_clamped"] = clamped.astype(np.int64)
     write_csv(args.output, out)
     n = int(np.count_nonzero(clamped))
-    print(f"wrote {args.output}: {len(clamped)} rows, {n} with the temperature clamped to "
-          f"{lo:.2f}..{hi:.2f} °C")
+    print(f"wrote {args.output}: {len(clamped)} rows through {how}, {n} with the temperature clamped "
+          f"to the calibrated range")
