@@ -1,5 +1,6 @@
 /* sig_chain.c - the weighing chain, float and fixed; see sig_chain.h. */
 #include "sig_chain.h"
+#include "sig_chain_stages.h"
 
 static bool is_finite(sig_real x)
 {
@@ -75,7 +76,7 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
 sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *stable)
 {
     sig_status st, ret;
-    sig_real y, m, xk, e, dz;
+    sig_real y, m, xk;
     bool stab;
     if (!c || !out || !stable) return SIG_ERR_ARG;
     st = sig_limit_step_f(&c->limit, x, &y);
@@ -87,20 +88,12 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
         c->motion_run = 0u;
     }
     (void)sig_antipulse_step_f(&c->ap, y, &m);
-    if (c->motion_band > SIG_REAL(0.0) && c->kf.seeded) {
-        e = m - c->kf.x;
-        if (e > c->motion_band || -e > c->motion_band) {
-            if (c->motion_run < 255u) c->motion_run++;
-        } else {
-            c->motion_run = 0u;
-        }
-        if (c->motion_run >= c->motion_count) {
-            (void)sig_antipulse_reset_f(&c->ap);
-            (void)sig_antipulse_step_f(&c->ap, y, &m);
-            (void)sig_kalman1_restart_f(&c->kf);
-            c->motion_run = 0u;
-            ret = (sig_status)(ret | SIG_CHAIN_MOTION);
-        }
+    if (c->motion_band > SIG_REAL(0.0) && c->kf.seeded
+        && sig_chain_motion_f(m - c->kf.x, c->motion_band, &c->motion_run, c->motion_count)) {
+        (void)sig_antipulse_reset_f(&c->ap);
+        (void)sig_antipulse_step_f(&c->ap, y, &m);
+        (void)sig_kalman1_restart_f(&c->kf);
+        ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_f(&c->limit, m);
     /* m is finite (the anti-pulse mean is clamped to its window), so these
@@ -109,20 +102,8 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     if (st < 0) return st;
     st = sig_stable_step_f(&c->st, xk, &stab);
     if (st < 0) return st;
-    if (stab) {
-        if (c->tare_pending) {
-            c->offset = xk;
-            c->tare_pending = false;
-            ret = (sig_status)(ret | SIG_CHAIN_TARED);
-        } else if (c->zero_band > SIG_REAL(0.0)) {
-            dz = xk - c->offset;
-            if (dz <= c->zero_band && -dz <= c->zero_band) {
-                if (dz > c->zero_rate) dz = c->zero_rate;
-                if (dz < -c->zero_rate) dz = -c->zero_rate;
-                c->offset += dz;
-            }
-        }
-    }
+    if (stab && sig_chain_offset_f(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
+        ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = xk - c->offset;
     c->stable = stab;
     c->has_out = true;
@@ -134,13 +115,12 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
 sig_status sig_chain_tare_f(sig_chain_f *c)
 {
     if (!c) return SIG_ERR_ARG;
-    if (c->has_out && c->stable) {
-        c->offset = c->kf.x;
+    c->tare_pending = true;
+    if (c->has_out && c->stable) {             /* the stable-sample rule, applied now */
+        (void)sig_chain_offset_f(c->kf.x, &c->offset, &c->tare_pending, SIG_REAL(0.0), SIG_REAL(0.0));
         c->out = SIG_REAL(0.0);
-        c->tare_pending = false;
         return SIG_CHAIN_TARED;
     }
-    c->tare_pending = true;
     return SIG_OK;
 }
 
@@ -203,7 +183,7 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
 sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *stable)
 {
     sig_status ret = SIG_OK;
-    int32_t y, m, m7, xk, dz;
+    int32_t y, m, m7, xk;
     bool stab;
     if (!c || !out_q7 || !stable) return SIG_ERR_ARG;
     if (x > SIG_CODE_MAX) { x = SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
@@ -216,38 +196,19 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
     }
     (void)sig_antipulse_step_q(&c->ap, y, &m);
     m7 = codes_to_q7(m);
-    if (c->motion_band > 0 && c->kf.seeded) {
-        if (sig_abs32_sat(sig_sat_sub32(m7, c->kf.x)) > c->motion_band) {
-            if (c->motion_run < 255u) c->motion_run++;
-        } else {
-            c->motion_run = 0u;
-        }
-        if (c->motion_run >= c->motion_count) {
-            (void)sig_antipulse_reset_q(&c->ap);
-            (void)sig_antipulse_step_q(&c->ap, y, &m);
-            m7 = codes_to_q7(m);
-            (void)sig_kalman1_restart_q(&c->kf);
-            c->motion_run = 0u;
-            ret = (sig_status)(ret | SIG_CHAIN_MOTION);
-        }
+    if (c->motion_band > 0 && c->kf.seeded
+        && sig_chain_motion_q(sig_sat_sub32(m7, c->kf.x), c->motion_band, &c->motion_run, c->motion_count)) {
+        (void)sig_antipulse_reset_q(&c->ap);
+        (void)sig_antipulse_step_q(&c->ap, y, &m);
+        m7 = codes_to_q7(m);
+        (void)sig_kalman1_restart_q(&c->kf);
+        ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_q(&c->limit, m);
     (void)sig_kalman1_step_q(&c->kf, m7, &xk);
     (void)sig_stable_step_q(&c->st, xk, &stab);
-    if (stab) {
-        if (c->tare_pending) {
-            c->offset = xk;
-            c->tare_pending = false;
-            ret = (sig_status)(ret | SIG_CHAIN_TARED);
-        } else if (c->zero_band > 0) {
-            dz = sig_sat_sub32(xk, c->offset);
-            if (sig_abs32_sat(dz) <= c->zero_band) {
-                if (dz > c->zero_rate) dz = c->zero_rate;
-                if (dz < -c->zero_rate) dz = -c->zero_rate;
-                c->offset = sig_sat_add32(c->offset, dz);
-            }
-        }
-    }
+    if (stab && sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
+        ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = sig_sat_sub32(xk, c->offset);
     c->stable = stab;
     c->has_out = true;
@@ -259,13 +220,12 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
 sig_status sig_chain_tare_q(sig_chain_q *c)
 {
     if (!c) return SIG_ERR_ARG;
-    if (c->has_out && c->stable) {
-        c->offset = c->kf.x;
+    c->tare_pending = true;
+    if (c->has_out && c->stable) {             /* the stable-sample rule, applied now */
+        (void)sig_chain_offset_q(c->kf.x, &c->offset, &c->tare_pending, 0, 0);
         c->out = 0;
-        c->tare_pending = false;
         return SIG_CHAIN_TARED;
     }
-    c->tare_pending = true;
     return SIG_OK;
 }
 
