@@ -29,6 +29,7 @@ sig_status sig_chain_params_paper_f(sig_chain_params_f *p)
     p->motion_count = 1u;
     p->zero_band = SIG_REAL(0.0);
     p->zero_rate = SIG_REAL(0.0);
+    p->noise_auto = false;
     return SIG_OK;
 }
 
@@ -43,6 +44,54 @@ static bool params_ok_f(const sig_chain_params_f *p)
         && nonneg_finite(p->zero_band) && nonneg_finite(p->zero_rate);
 }
 
+/* The load moved: P back to P0; with noise_auto the estimate also starts
+ * again from the new samples (reset; the next step seeds it). */
+static void restart_kf_f(sig_chain_f *c)
+{
+    if (c->noise_auto) (void)sig_kalman1_reset_f(&c->kf);
+    else (void)sig_kalman1_restart_f(&c->kf);
+}
+
+static void restart_kf_q(sig_chain_q *c)
+{
+    if (c->noise_auto) (void)sig_kalman1_reset_q(&c->kf);
+    else (void)sig_kalman1_restart_q(&c->kf);
+}
+
+/* noise_auto: the thresholds from the measured sigma (sig_chain.h) */
+static void set_thresholds_f(sig_chain_f *c)
+{
+    sig_real s = c->noise.sigma;
+    if (!c->noise_auto) return;
+    c->limit.a0 = SIG_REAL(6.0) * s;
+    c->motion_band = SIG_REAL(1.25) * s;
+    c->st.step = SIG_REAL(0.25) * s;
+    c->zero_band = SIG_REAL(2.0) * s;
+    c->zero_rate = SIG_REAL(0.0625) * s;
+}
+
+/* noise_auto, after the stages: update the estimator unless the load moves
+ * (sig_chain.h), then the thresholds; the floor flag */
+static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
+{
+    bool event = (ret & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED)) != 0;
+    bool rejected = (ret & SIG_WARN_REJECTED) != 0;
+    bool update;
+    if (event) c->holdoff = c->ap.n;
+    else if (c->holdoff > 0u) c->holdoff--;
+    if (!event && !rejected && !c->rejected_prev && c->holdoff == 0u && c->motion_run == 0u) {
+        c->frozen = 0u;
+        update = true;
+    } else {
+        if (c->frozen < 255u) c->frozen++;
+        update = c->frozen >= SIG_CHAIN_NOISE_FROZEN_MAX || c->noise.count < SIG_NOISE_WARMUP;
+    }
+    c->rejected_prev = rejected;
+    (void)sig_noise_step_f(&c->noise, x, update);
+    set_thresholds_f(c);
+    return sig_noise_at_floor_f(&c->noise) ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
+}
+
 sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p)
 {
     if (!c || !p || !params_ok_f(p)) return SIG_ERR_ARG;
@@ -54,6 +103,7 @@ sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p)
     c->motion_count = p->motion_count;
     c->zero_band = p->zero_band;
     c->zero_rate = p->zero_rate;
+    c->noise_auto = p->noise_auto;
     return sig_chain_reset_f(c);
 }
 
@@ -70,6 +120,11 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->tare_pending = false;
     c->stable = false;
     c->has_out = false;
+    c->rejected_prev = false;
+    c->holdoff = 0u;
+    c->frozen = 0u;
+    (void)sig_noise_reset_f(&c->noise);
+    set_thresholds_f(c);
     return SIG_OK;
 }
 
@@ -84,7 +139,7 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     ret = st;
     if ((st & SIG_LIMIT_RESEEDED) != 0) {
         (void)sig_antipulse_reset_f(&c->ap);
-        if (c->motion_band > SIG_REAL(0.0)) (void)sig_kalman1_restart_f(&c->kf);
+        if (c->motion_band > SIG_REAL(0.0)) restart_kf_f(c);
         c->motion_run = 0u;
     }
     (void)sig_antipulse_step_f(&c->ap, y, &m);
@@ -92,10 +147,12 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
         && sig_chain_motion_f(m - c->kf.x, c->motion_band, &c->motion_run, c->motion_count)) {
         (void)sig_antipulse_reset_f(&c->ap);
         (void)sig_antipulse_step_f(&c->ap, y, &m);
-        (void)sig_kalman1_restart_f(&c->kf);
+        restart_kf_f(c);
         ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_f(&c->limit, m);
+    if (c->noise_auto && c->ap.count < c->ap.n)
+        (void)sig_kalman1_reset_f(&c->kf);      /* window filling: its trimmed mean is the estimate */
     /* m is finite (the anti-pulse mean is clamped to its window), so these
      * cannot fail; if they ever did, stop before using an unset estimate */
     st = sig_kalman1_step_f(&c->kf, m, &xk);
@@ -107,6 +164,7 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     c->out = xk - c->offset;
     c->stable = stab;
     c->has_out = true;
+    if (c->noise_auto) ret = noise_step_f(c, x, ret);
     *out = c->out;
     *stable = stab;
     return ret;
@@ -150,6 +208,39 @@ static bool params_ok_q(const sig_chain_params_q *p)
         && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0;
 }
 
+static void set_thresholds_q(sig_chain_q *c)
+{
+    int32_t s = c->noise.sigma;                 /* Q24.7, <= 2^27: 6 s fits */
+    int32_t a0;
+    if (!c->noise_auto) return;
+    a0 = ((s << 2) + (s << 1) + 64) >> 7;     /* 6 s, rounded to codes; shifts, no multiply */
+    c->limit.a0 = a0 > 0 ? a0 : 1;
+    c->motion_band = s + (s >> 2);
+    c->st.step = s >> 2;
+    c->zero_band = s << 1;
+    c->zero_rate = s >> 4;
+}
+
+static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)
+{
+    bool event = (ret & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED)) != 0;
+    bool rejected = (ret & SIG_WARN_REJECTED) != 0;
+    bool update;
+    if (event) c->holdoff = c->ap.n;
+    else if (c->holdoff > 0u) c->holdoff--;
+    if (!event && !rejected && !c->rejected_prev && c->holdoff == 0u && c->motion_run == 0u) {
+        c->frozen = 0u;
+        update = true;
+    } else {
+        if (c->frozen < 255u) c->frozen++;
+        update = c->frozen >= SIG_CHAIN_NOISE_FROZEN_MAX || c->noise.count < SIG_NOISE_WARMUP;
+    }
+    c->rejected_prev = rejected;
+    (void)sig_noise_step_q(&c->noise, x, update);
+    set_thresholds_q(c);
+    return sig_noise_at_floor_q(&c->noise) ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
+}
+
 sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p)
 {
     if (!c || !p || !params_ok_q(p)) return SIG_ERR_ARG;
@@ -161,6 +252,7 @@ sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p)
     c->motion_count = p->motion_count;
     c->zero_band = p->zero_band_q7;
     c->zero_rate = p->zero_rate_q7;
+    c->noise_auto = p->noise_auto;
     return sig_chain_reset_q(c);
 }
 
@@ -177,6 +269,11 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->tare_pending = false;
     c->stable = false;
     c->has_out = false;
+    c->rejected_prev = false;
+    c->holdoff = 0u;
+    c->frozen = 0u;
+    (void)sig_noise_reset_q(&c->noise);
+    set_thresholds_q(c);
     return SIG_OK;
 }
 
@@ -191,7 +288,7 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
     ret = (sig_status)(ret | sig_limit_step_q(&c->limit, x, &y));
     if ((ret & SIG_LIMIT_RESEEDED) != 0) {
         (void)sig_antipulse_reset_q(&c->ap);
-        if (c->motion_band > 0) (void)sig_kalman1_restart_q(&c->kf);
+        if (c->motion_band > 0) restart_kf_q(c);
         c->motion_run = 0u;
     }
     (void)sig_antipulse_step_q(&c->ap, y, &m);
@@ -201,10 +298,12 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
         (void)sig_antipulse_reset_q(&c->ap);
         (void)sig_antipulse_step_q(&c->ap, y, &m);
         m7 = codes_to_q7(m);
-        (void)sig_kalman1_restart_q(&c->kf);
+        restart_kf_q(c);
         ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_q(&c->limit, m);
+    if (c->noise_auto && c->ap.count < c->ap.n)
+        (void)sig_kalman1_reset_q(&c->kf);      /* window filling: its trimmed mean is the estimate */
     (void)sig_kalman1_step_q(&c->kf, m7, &xk);
     (void)sig_stable_step_q(&c->st, xk, &stab);
     if (stab && sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
@@ -212,6 +311,7 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
     c->out = sig_sat_sub32(xk, c->offset);
     c->stable = stab;
     c->has_out = true;
+    if (c->noise_auto) ret = noise_step_q(c, x, ret);
     *out_q7 = c->out;
     *stable = stab;
     return ret;

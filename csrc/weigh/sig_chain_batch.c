@@ -59,6 +59,18 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
     uint8_t wn, lockout_n, motion_count, stable_count;
     if (!c || (n != 0u && (!x || !out || !stable))) return SIG_ERR_ARG;
     if (n == 0u) return SIG_OK;
+    if (c->noise_auto) {                       /* thresholds change every sample: the step path */
+        st = SIG_OK;
+        for (i = 0u; i < n; i++) {
+            st = sig_chain_step_f(c, x[i], &out[i], &s);
+            if (st < 0) {
+                out[i] = x[i] - x[i];
+                s = false;
+            }
+            stable[i] = (uint8_t)s;
+        }
+        return st;
+    }
     a0 = c->limit.a0; inv = c->ap.inv; band = c->motion_band; kq = c->kf.q; kr = c->kf.r;
     step = c->st.step; zband = c->zero_band; zrate = c->zero_rate;
     wn = c->ap.n; lockout_n = c->limit.lockout_n; motion_count = c->motion_count;

@@ -136,7 +136,7 @@ def write_tcomp_header(case: TcompCase, path: Path) -> Path:
 
 
 # ---------------------------------------------------------------- chain -----
-CHAIN_PRESET = "recommended"       # HX711 counts, ~2205 counts/kg (pysig.reference.chain)
+CHAIN_PRESET = "recommended"       # HX711 counts, ~2205 counts/kg (pysig.weigh.presets)
 
 
 @dataclass
@@ -151,7 +151,7 @@ class ChainCase:
 def chain_case(n: int = 200, seed: int = 0, preset: str = CHAIN_PRESET) -> ChainCase:
     """A weighing run in HX711 counts: empty, a 5 kg load put on, changed to
     2 kg; 70 counts rms noise (the real recording's) and a few impulses."""
-    from ..reference.chain import chain_fixed_params, chain_params
+    from ..weigh.presets import chain_fixed_params, chain_params
     p = chain_params(preset)
     per_kg = 1000.0 / 0.45359237
     rng = np.random.default_rng(seed)

@@ -18,7 +18,7 @@ import numpy as np
 
 from ...weigh.chain import PRESETS, Chain
 from ...errors import InputFileError, NonFiniteError, SaturationError
-from ...reference.chain import CODE_MAX
+from ...weigh.presets import CODE_MAX
 from ...io import read_csv, write_csv
 
 
