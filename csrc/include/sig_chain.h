@@ -60,9 +60,11 @@
 #define SIG_CHAIN_NOISE_FLOOR ((sig_status)128)   /* noise_auto: the measured noise is at its floor
                                                      (stuck sensor, or below a quarter code) */
 
-/* noise_auto: motion (restart, re-seed, hold-off, a motion run, an impulse)
- * longer than this many samples is taken for noise and the noise estimator
- * resumes, so a lasting rise in noise cannot freeze it. */
+/* noise_auto: a count goes up by one on each sample the noise estimator
+ * skips (restart, re-seed, hold-off, a motion run, an impulse) and down by
+ * one on each other sample (between 0 and twice this); from this value on
+ * the estimator sees every sample, with its warm-up steps again: so much
+ * motion is noise, and a lasting rise in noise cannot freeze the estimate. */
 #define SIG_CHAIN_NOISE_FROZEN_MAX 64u
 
 typedef struct {
@@ -108,7 +110,7 @@ typedef struct {
     uint8_t motion_count, motion_run;
     bool tare_pending, stable, has_out;
     bool noise_auto, rejected_prev;
-    uint8_t holdoff, frozen; /* noise_auto: samples of hold-off left, non-quiet samples in a row */
+    uint8_t holdoff, frozen; /* noise_auto: samples of hold-off left, skip count (SIG_CHAIN_NOISE_FROZEN_MAX) */
     sig_noise_f noise;
 } sig_chain_f;
 

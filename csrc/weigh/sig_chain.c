@@ -80,10 +80,12 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
     if (event) c->holdoff = c->ap.n;
     else if (c->holdoff > 0u) c->holdoff--;
     if (!event && !rejected && !c->rejected_prev && c->holdoff == 0u && c->motion_run == 0u) {
-        c->frozen = 0u;
+        if (c->frozen > 0u) c->frozen--;
         update = true;
     } else {
-        if (c->frozen < 255u) c->frozen++;
+        if (c->frozen < 2u * SIG_CHAIN_NOISE_FROZEN_MAX) c->frozen++;
+        if (c->frozen == SIG_CHAIN_NOISE_FROZEN_MAX && c->noise.count > 8u)
+            c->noise.count = 8u;                /* the noise changed: large steps again */
         update = c->frozen >= SIG_CHAIN_NOISE_FROZEN_MAX || c->noise.count < SIG_NOISE_WARMUP;
     }
     c->rejected_prev = rejected;
@@ -229,10 +231,12 @@ static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)
     if (event) c->holdoff = c->ap.n;
     else if (c->holdoff > 0u) c->holdoff--;
     if (!event && !rejected && !c->rejected_prev && c->holdoff == 0u && c->motion_run == 0u) {
-        c->frozen = 0u;
+        if (c->frozen > 0u) c->frozen--;
         update = true;
     } else {
-        if (c->frozen < 255u) c->frozen++;
+        if (c->frozen < 2u * SIG_CHAIN_NOISE_FROZEN_MAX) c->frozen++;
+        if (c->frozen == SIG_CHAIN_NOISE_FROZEN_MAX && c->noise.count > 8u)
+            c->noise.count = 8u;                /* the noise changed: large steps again */
         update = c->frozen >= SIG_CHAIN_NOISE_FROZEN_MAX || c->noise.count < SIG_NOISE_WARMUP;
     }
     c->rejected_prev = rejected;

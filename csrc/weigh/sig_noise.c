@@ -16,7 +16,7 @@ static sig_real floor_f(sig_real x)
 /* the step's shift: large steps while the estimate is new */
 static uint8_t step_shift(uint8_t count)
 {
-    return count < 8u ? 2u : (count < SIG_NOISE_WARMUP ? 3u : 4u);
+    return count < 8u ? 2u : (count < SIG_NOISE_WARMUP ? 3u : (count < 56u ? 4u : 5u));
 }
 
 sig_status sig_noise_reset_f(sig_noise_f *s)
@@ -42,7 +42,8 @@ sig_status sig_noise_step_f(sig_noise_f *s, sig_real x, bool update)
             s->sigma = d < SIG_NOISE_MAX_F ? d : SIG_NOISE_MAX_F;
         } else {
             sh = step_shift(s->count);
-            up = s->sigma * (sh == 2u ? SIG_REAL(0.25) : (sh == 3u ? SIG_REAL(0.125) : SIG_REAL(0.0625)));
+            up = s->sigma * (sh == 2u ? SIG_REAL(0.25) : (sh == 3u ? SIG_REAL(0.125)
+                             : (sh == 4u ? SIG_REAL(0.0625) : SIG_REAL(0.03125))));
             if (d > s->sigma) {
                 s->sigma = s->sigma + up;
                 if (s->sigma > SIG_NOISE_MAX_F) s->sigma = SIG_NOISE_MAX_F;

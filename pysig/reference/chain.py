@@ -564,7 +564,7 @@ NOISE_WARMUP = 24                 # updates before the estimator may be frozen
 class NoiseEstimator:
     """Per-sample noise sigma from |x_k - x_{k-1}|: a quantile tracker that
     moves up by sigma/2^s when |d| > sigma and down by (1 - 1/8) sigma/2^s
-    when |d| < sigma (s = 2, 3, then 4 after 8 and 24 updates).  For
+    when |d| < sigma (s = 2, 3, 4, then 5 after 8, 24 and 56 updates).  For
     Gaussian noise it settles where P(|d| > sigma) = 0.48, i.e. sigma ~ the
     noise's standard deviation; a glitch or a step moves it by one step at
     most.  Floor: a quarter code (fixed, Q24.7) or 2^-24 |x| (float)."""
@@ -595,7 +595,7 @@ class NoiseEstimator:
             if self.count == 0:
                 self.sigma = min(d, NOISE_MAX_Q7 if self.fixed else NOISE_MAX_F)
             else:
-                sh = 2 if self.count < 8 else 3 if self.count < NOISE_WARMUP else 4
+                sh = 2 if self.count < 8 else 3 if self.count < NOISE_WARMUP else 4 if self.count < 56 else 5
                 if self.fixed:
                     up = self.sigma >> sh
                     down = up - (up >> 3)
@@ -614,6 +614,16 @@ class NoiseEstimator:
         self.sigma = max(self.sigma, self.floor(x))
         self.prev, self.has_prev = x, True
 
+    def process(self, x, update=None):
+        """Samples (optionally per-sample update flags) -> sigma after each."""
+        x = np.asarray(x, dtype=float)
+        up = np.ones(x.size, dtype=bool) if update is None else np.asarray(update, dtype=bool)
+        out = np.empty(x.size)
+        for i, v in enumerate(x):
+            self._step(clamp_code(code_of(v)) if self.fixed else float(v), bool(up[i]))
+            out[i] = self.value
+        return out
+
     @property
     def at_floor(self):
         return self.sigma <= self.floor(self.prev)
@@ -625,7 +635,7 @@ class NoiseEstimator:
 
 # Thresholds from the measured noise sigma (the "auto" preset): the C core
 # computes them from sigma with these factors (fixed: shifts and adds).
-NOISE_FROZEN_MAX = 64             # motion longer than this (samples) is noise, not a load change
+NOISE_FROZEN_MAX = 64             # skip count from which motion is taken for noise
 
 
 def noise_thresholds(sigma, fixed=False):
@@ -688,8 +698,9 @@ class Chain:
         """After the stages: the estimator sees the sample unless it or the one
         before was rejected as an impulse or the load is moving (a motion
         restart or re-seed, then `window` samples of hold-off, or a motion run
-        under way); once warmed up, a freeze longer than
-        NOISE_FROZEN_MAX samples is taken for noise and the estimator resumes."""
+        under way).  A count goes up on each skipped sample and down on each
+        other one; from NOISE_FROZEN_MAX on, so much motion is noise and the
+        estimator sees every sample, with its warm-up steps again."""
         event = (ret & (CHAIN_MOTION | LIMIT_RESEEDED)) != 0
         rejected = (ret & WARN_REJECTED) != 0
         if event:
@@ -699,9 +710,11 @@ class Chain:
         quiet = not (event or rejected or self.rejected_prev) and self.holdoff == 0 and self.motion_run == 0
         self.rejected_prev = rejected
         if quiet:
-            self.frozen, update = 0, True
+            self.frozen, update = max(self.frozen - 1, 0), True
         else:
-            self.frozen = min(self.frozen + 1, 255)
+            self.frozen = min(self.frozen + 1, 2 * NOISE_FROZEN_MAX)
+            if self.frozen == NOISE_FROZEN_MAX:
+                self.noise.count = min(self.noise.count, 8)     # the noise changed: large steps again
             update = self.frozen >= NOISE_FROZEN_MAX or self.noise.count < NOISE_WARMUP
         self.noise._step(x, update)
         self._set_thresholds()

@@ -8,7 +8,7 @@ carried across calls, so a signal processed in pieces gives the same result
 as in one call."""
 import numpy as np
 cimport numpy as cnp
-from libc.math cimport NAN
+from libc.math cimport NAN, sqrt
 
 from ..errors import NonFiniteError, RangeError
 from . import presets as _p
@@ -307,6 +307,72 @@ cdef class StabilityDetector:
         return self.q.run if self.fixed else self.f.run
 
 
+# ---- the noise estimator ------------------------------------------------------
+cdef class NoiseEstimator:
+    """The per-sample noise sigma measured on the fly (csrc/include/sig_noise.h):
+    a quantile tracker on |x_k - x_{k-1}| that glitches and steps move by one
+    small step only.  Fixed: samples are codes, sigma in codes (Q24.7 inside).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.random.default_rng(1).normal(0.0, 3.0, 2000)
+    >>> s = NoiseEstimator().process(x)
+    >>> bool(2.4 < np.median(s[200:]) < 3.6)
+    True
+    """
+    cdef sig_noise_f f
+    cdef sig_noise_q q
+    cdef readonly bint fixed
+
+    def __init__(self, fixed=False):
+        self.fixed = fixed
+        self.reset()
+
+    def reset(self):
+        sig_noise_reset_q(&self.q) if self.fixed else sig_noise_reset_f(&self.f)
+
+    def process(self, x, update=None):
+        """Samples (and optionally a per-sample update flag) -> sigma after each."""
+        cdef cnp.ndarray[cnp.float64_t] out
+        cdef cnp.ndarray[cnp.float64_t] xf
+        cdef cnp.ndarray[cnp.int32_t] xq
+        cdef cnp.ndarray[cnp.uint8_t] up
+        cdef Py_ssize_t i, n
+        if self.fixed:
+            xq = np.clip(_codes(x), -_p.CODE_MAX, _p.CODE_MAX).astype(np.int32)
+            n = xq.shape[0]
+        else:
+            xf = _as_float(x)
+            n = xf.shape[0]
+        up = (np.ones(n, dtype=np.uint8) if update is None
+              else np.ascontiguousarray(update, dtype=bool).ravel().view(np.uint8))
+        if up.shape[0] != n:
+            raise RangeError(f"update has {up.shape[0]} flags for {n} samples")
+        out = np.empty(n)
+        with nogil:
+            for i in range(n):
+                if self.fixed:
+                    sig_noise_step_q(&self.q, xq[i], up[i] != 0)
+                    out[i] = self.q.sigma / 128.0
+                else:
+                    sig_noise_step_f(&self.f, xf[i], up[i] != 0)
+                    out[i] = self.f.sigma
+        return out
+
+    @property
+    def sigma(self):
+        return self.q.sigma / 128.0 if self.fixed else self.f.sigma
+
+    @property
+    def at_floor(self):
+        return bool(sig_noise_at_floor_q(&self.q) if self.fixed else sig_noise_at_floor_f(&self.f))
+
+    @property
+    def count(self):
+        return self.q.count if self.fixed else self.f.count
+
+
 # ---- the chain ---------------------------------------------------------------
 cdef class Chain:
     """limit -> anti-pulse -> Kalman -> stability (csrc/weigh/sig_chain.c).
@@ -498,7 +564,7 @@ cdef class Chain:
             return self.q.noise.sigma / 128.0
         if not self.fixed and self.f.noise_auto:
             return self.f.noise.sigma
-        return self.R ** 0.5
+        return sqrt(self.R)
 
     @property
     def noise_at_floor(self):
