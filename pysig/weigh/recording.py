@@ -13,7 +13,9 @@ paper) and runs each configuration:
   paper_chain  Chain(preset="paper"): the paper's published parameters
   kalman       the paper's plain Kalman filter (Q 1e-7, R 0.05, x0 1, P0 10)
   recommended  Chain(preset="recommended"): lock-out fix, motion-aware
-               settling, zero tracking
+               settling, zero tracking, thresholds from a fixed R
+  auto         Chain(), the default: the same with every threshold
+               following the noise measured on the fly
 
 and measures, per configuration (definitions in METRICS):
 glitches_passed, plateaus_missed, settle_s_max, plateau_err_lb_max,
@@ -37,7 +39,7 @@ RATE_HZ = 10.0
 STEP_LB = 10.0
 LOADED = ("lc1", "lc2")
 UNLOADED = ("lc3", "lc4", "lc5", "lc6")
-CONFIGS = ("raw", "paper_chain", "kalman", "recommended")
+CONFIGS = ("raw", "paper_chain", "kalman", "recommended", "auto")
 SETTLE_BAND_LB = 0.05
 MISSED_BAND_LB = 1.0
 GLITCH_BAND_LB = 0.05
@@ -97,8 +99,8 @@ def default_backend():
 def run_config(config, kg, backend=None, counts_per_kg=None):
     """One configuration over a kg signal -> (output kg, stable flags or None).
 
-    "recommended_fixed" runs the firmware's fixed-point chain on integer
-    codes, rint(kg * counts_per_kg): the ADC codes minus the calibrated zero,
+    "recommended_fixed" and "auto_fixed" run the firmware's fixed-point
+    chain on integer codes, rint(kg * counts_per_kg): the ADC codes minus the calibrated zero,
     as firmware that subtracts the stored offset first would see them."""
     backend = backend or default_backend()
     if config == "raw":
@@ -109,6 +111,12 @@ def run_config(config, kg, backend=None, counts_per_kg=None):
         return backend.Kalman1(Q=1e-7, R=0.05, x0=1.0, P0=10.0).process(kg), None
     if config == "recommended":
         return backend.Chain(preset="recommended", units_per_kg=1.0).process(kg)
+    if config == "auto":
+        return backend.Chain(preset="auto").process(kg)
+    if config == "auto_fixed":
+        codes = np.rint(np.asarray(kg) * counts_per_kg)
+        out, stable = backend.Chain(preset="auto", fixed=True).process(codes)
+        return out / counts_per_kg, stable
     if config == "recommended_fixed":
         codes = np.rint(np.asarray(kg) * counts_per_kg)
         out, stable = backend.Chain(preset="recommended", fixed=True,
