@@ -31,7 +31,7 @@
  *    is moving (a restart or re-seed and `window` samples after it, or a
  *    motion run under way; see SIG_CHAIN_NOISE_FROZEN_MAX), and before
  *    each sample the thresholds follow its sigma:
- *        A0 = 6 sigma, motion_band = 1.25 sigma, stable_step = sigma / 4,
+ *        A0 = 6 sigma, motion_band = 1.5 sigma, stable_step = sigma / 4,
  *        zero_band = 2 sigma, zero_rate = sigma / 16 per sample
  *    (the fixed form by shifts and adds; A0 in codes, rounded, >= 1).  The
  *    given a0, motion_band, stable_step, zero_band, zero_rate are replaced.

@@ -64,7 +64,7 @@ static void set_thresholds_f(sig_chain_f *c)
     sig_real s = c->noise.sigma;
     if (!c->noise_auto) return;
     c->limit.a0 = SIG_REAL(6.0) * s;
-    c->motion_band = SIG_REAL(1.25) * s;
+    c->motion_band = SIG_REAL(1.5) * s;
     c->st.step = SIG_REAL(0.25) * s;
     c->zero_band = SIG_REAL(2.0) * s;
     c->zero_rate = SIG_REAL(0.0625) * s;
@@ -217,7 +217,7 @@ static void set_thresholds_q(sig_chain_q *c)
     if (!c->noise_auto) return;
     a0 = ((s << 2) + (s << 1) + 64) >> 7;     /* 6 s, rounded to codes; shifts, no multiply */
     c->limit.a0 = a0 > 0 ? a0 : 1;
-    c->motion_band = s + (s >> 2);
+    c->motion_band = s + (s >> 1);
     c->st.step = s >> 2;
     c->zero_band = s << 1;
     c->zero_rate = s >> 4;
