@@ -175,12 +175,12 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
 sig_status sig_chain_tare_f(sig_chain_f *c)
 {
     if (!c) return SIG_ERR_ARG;
-    c->tare_pending = true;
-    if (c->has_out && c->stable) {             /* the stable-sample rule, applied now */
-        (void)sig_chain_offset_f(c->kf.x, &c->offset, &c->tare_pending, SIG_REAL(0.0), SIG_REAL(0.0));
+    if (c->has_out && c->stable) {             /* stable now: the tare of a stable sample */
+        sig_chain_take_tare_f(c->kf.x, &c->offset, &c->tare_pending);
         c->out = SIG_REAL(0.0);
         return SIG_CHAIN_TARED;
     }
+    c->tare_pending = true;
     return SIG_OK;
 }
 
@@ -324,12 +324,12 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
 sig_status sig_chain_tare_q(sig_chain_q *c)
 {
     if (!c) return SIG_ERR_ARG;
-    c->tare_pending = true;
-    if (c->has_out && c->stable) {             /* the stable-sample rule, applied now */
-        (void)sig_chain_offset_q(c->kf.x, &c->offset, &c->tare_pending, 0, 0);
+    if (c->has_out && c->stable) {             /* stable now: the tare of a stable sample */
+        sig_chain_take_tare_q(c->kf.x, &c->offset, &c->tare_pending);
         c->out = 0;
         return SIG_CHAIN_TARED;
     }
+    c->tare_pending = true;
     return SIG_OK;
 }
 

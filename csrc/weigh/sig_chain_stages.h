@@ -42,13 +42,19 @@ static inline bool sig_chain_motion_q(int32_t e, int32_t band, uint8_t *run, uin
 /* Tare and zero tracking on a stable sample xk: a pending tare takes xk as
  * the offset (returns true); otherwise, while |xk - offset| <= zband, the
  * offset moves towards xk by at most zrate (zband 0: no tracking). */
+/* A tare: the offset becomes xk, nothing is pending any more. */
+static inline void sig_chain_take_tare_f(sig_real xk, sig_real *offset, bool *tare_pending)
+{
+    *offset = xk;
+    *tare_pending = false;
+}
+
 static inline bool sig_chain_offset_f(sig_real xk, sig_real *offset, bool *tare_pending,
                                       sig_real zband, sig_real zrate)
 {
     sig_real dz;
     if (*tare_pending) {
-        *offset = xk;
-        *tare_pending = false;
+        sig_chain_take_tare_f(xk, offset, tare_pending);
         return true;
     }
     if (zband > SIG_REAL(0.0)) {
@@ -62,13 +68,19 @@ static inline bool sig_chain_offset_f(sig_real xk, sig_real *offset, bool *tare_
     return false;
 }
 
+/* A tare: the offset becomes xk, nothing is pending any more. */
+static inline void sig_chain_take_tare_q(int32_t xk, int32_t *offset, bool *tare_pending)
+{
+    *offset = xk;
+    *tare_pending = false;
+}
+
 static inline bool sig_chain_offset_q(int32_t xk, int32_t *offset, bool *tare_pending,
                                       int32_t zband, int32_t zrate)
 {
     int32_t dz;
     if (*tare_pending) {
-        *offset = xk;
-        *tare_pending = false;
+        sig_chain_take_tare_q(xk, offset, tare_pending);
         return true;
     }
     if (zband > 0) {
