@@ -33,7 +33,8 @@
  *    each sample the thresholds follow its sigma:
  *        A0 = 6 sigma, motion_band = 1.5 sigma, stable_step = sigma / 4,
  *        zero_band = 2 sigma, zero_rate = sigma / 16 per sample
- *    (the fixed form by shifts and adds; A0 in codes, rounded, >= 1).  The
+ *    (the fixed form by shifts and adds; A0 in codes, rounded, >= 1; until
+ *    the estimator has seen one difference, A0 takes every sample).  The
  *    given a0, motion_band, stable_step, zero_band, zero_rate are replaced.
  *    A restart also starts the Kalman estimate again from the new samples,
  *    and while the anti-pulse window is filling its trimmed mean is the

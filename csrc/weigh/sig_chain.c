@@ -63,7 +63,8 @@ static void set_thresholds_f(sig_chain_f *c)
 {
     sig_real s = c->noise.sigma;
     if (!c->noise_auto) return;
-    c->limit.a0 = SIG_REAL(6.0) * s;
+    /* no difference seen yet: no impulse can be told from noise, take all */
+    c->limit.a0 = SIG_REAL(6.0) * (c->noise.count == 0u ? SIG_NOISE_MAX_F : s);
     c->motion_band = SIG_REAL(1.5) * s;
     c->st.step = SIG_REAL(0.25) * s;
     c->zero_band = SIG_REAL(2.0) * s;
@@ -216,7 +217,7 @@ static void set_thresholds_q(sig_chain_q *c)
     int32_t a0;
     if (!c->noise_auto) return;
     a0 = ((s << 2) + (s << 1) + 64) >> 7;     /* 6 s, rounded to codes; shifts, no multiply */
-    c->limit.a0 = a0 > 0 ? a0 : 1;
+    c->limit.a0 = c->noise.count == 0u ? 2 * SIG_CODE_MAX : (a0 > 0 ? a0 : 1);
     c->motion_band = s + (s >> 1);
     c->st.step = s >> 2;
     c->zero_band = s << 1;

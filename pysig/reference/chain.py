@@ -685,6 +685,8 @@ class Chain:
         if self.noise_auto:
             (self.limit.a0, self.motion_band, self.st.step_value, self.zero_band,
              self.zero_rate) = noise_thresholds(self.noise.sigma, self.fixed)
+            if self.noise.count == 0:           # no difference seen yet: take every sample
+                self.limit.a0 = 2 * CODE_MAX if self.fixed else 6.0 * NOISE_MAX_F
 
     def _restart_kf(self):
         """The load moved: P back to P0; in auto mode the estimate also starts
