@@ -214,13 +214,14 @@ static bool params_ok_q(const sig_chain_params_q *p)
 static void set_thresholds_q(sig_chain_q *c)
 {
     int32_t s = c->noise.sigma;                 /* Q24.7, <= 2^27: 6 s fits */
-    int32_t a0;
+    int32_t s2, a0;
     if (!c->noise_auto) return;
-    a0 = ((s << 2) + (s << 1) + 64) >> 7;     /* 6 s, rounded to codes; shifts, no multiply */
+    s2 = s << 1;
+    a0 = (s2 + s2 + s2 + 64) >> 7;              /* 6 s, rounded to codes; no multiply */
     c->limit.a0 = c->noise.count == 0u ? 2 * SIG_CODE_MAX : (a0 > 0 ? a0 : 1);
     c->motion_band = s + (s >> 1);
     c->st.step = s >> 2;
-    c->zero_band = s << 1;
+    c->zero_band = s2;
     c->zero_rate = s >> 4;
 }
 
@@ -243,7 +244,7 @@ static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)
     c->rejected_prev = rejected;
     (void)sig_noise_step_q(&c->noise, x, update);
     set_thresholds_q(c);
-    return sig_noise_at_floor_q(&c->noise) ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
+    return c->noise.sigma <= SIG_NOISE_FLOOR_Q7 ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
 }
 
 sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p)

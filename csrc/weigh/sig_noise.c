@@ -77,27 +77,36 @@ sig_status sig_noise_reset_q(sig_noise_q *s)
 
 sig_status sig_noise_step_q(sig_noise_q *s, int32_t x, bool update)
 {
-    int32_t d, up;
+    int32_t d, up, sigma;                       /* the state in locals: one load, one store */
+    uint8_t count;
     if (!s) return SIG_ERR_ARG;
     if (x > SIG_CODE_MAX) x = SIG_CODE_MAX;
     else if (x < -SIG_CODE_MAX) x = -SIG_CODE_MAX;
     if (s->has_prev && update) {
-        d = sig_abs32_sat(x - s->prev);        /* |codes| <= 2^24 - 1: no overflow */
+        sigma = s->sigma;
+        count = s->count;
+        d = x - s->prev;                        /* |codes| <= 2^24 - 1: no overflow */
+        if (d < 0) d = -d;
         d = d > (INT32_MAX >> 7) ? INT32_MAX : (int32_t)((uint32_t)d << 7);
-        if (s->count == 0u) {
-            s->sigma = d < SIG_NOISE_MAX_Q7 ? d : SIG_NOISE_MAX_Q7;
+        if (count == 0u) {
+            sigma = d < SIG_NOISE_MAX_Q7 ? d : SIG_NOISE_MAX_Q7;
         } else {
-            up = s->sigma >> step_shift(s->count);   /* sigma > 0 */
-            if (d > s->sigma) {
-                s->sigma += up;
-                if (s->sigma > SIG_NOISE_MAX_Q7) s->sigma = SIG_NOISE_MAX_Q7;
-            } else if (d < s->sigma) {
-                s->sigma -= up - (up >> 3);
+            /* constant shifts (a variable one is a loop on the MCUs) */
+            if (count >= 56u) up = sigma >> 5;
+            else if (count >= SIG_NOISE_WARMUP) up = sigma >> 4;
+            else if (count >= 8u) up = sigma >> 3;
+            else up = sigma >> 2;                /* sigma > 0 */
+            if (d > sigma) {
+                sigma += up;
+                if (sigma > SIG_NOISE_MAX_Q7) sigma = SIG_NOISE_MAX_Q7;
+            } else if (d < sigma) {
+                sigma -= up - (up >> 3);
             }
         }
-        if (s->count < 255u) s->count++;
+        if (count < 255u) count++;
+        s->count = count;
+        s->sigma = sigma < SIG_NOISE_FLOOR_Q7 ? SIG_NOISE_FLOOR_Q7 : sigma;
     }
-    if (s->sigma < SIG_NOISE_FLOOR_Q7) s->sigma = SIG_NOISE_FLOOR_Q7;
     s->prev = x;
     s->has_prev = true;
     return SIG_OK;
