@@ -1,5 +1,7 @@
-"""The weighing chain in plain Python: the executable spec of csrc/sig_limit.c,
-sig_antipulse.c, sig_kalman1.c, sig_stable.c and sig_chain.c.
+"""The weighing chain in plain Python: the executable spec of csrc/weigh/
+sig_limit.c, sig_antipulse.c, sig_kalman1.c, sig_stable.c, sig_noise.c and
+sig_chain.c.  Imported by tests only; the library's presets and checks are
+pysig.weigh.presets (tests prove the two equal).
 
 Read next to the paper: limit filter -> anti-pulse filter -> scalar Kalman
 filter -> stability detector.  Every class takes `fixed=False` (floating
@@ -649,9 +651,11 @@ def noise_thresholds(sigma, fixed=False):
 # ---- the chain ---------------------------------------------------------------
 class Chain:
     """limit -> anti-pulse -> Kalman -> stability, with the lock-out fix,
-    motion-aware settling, tare and zero tracking (csrc/sig_chain.c)."""
+    motion-aware settling, tare and zero tracking, and in the auto preset
+    (the default) the thresholds following the noise measured on the fly
+    (csrc/weigh/sig_chain.c)."""
 
-    def __init__(self, preset="recommended", fixed=False, units_per_kg=None, **overrides):
+    def __init__(self, preset="auto", fixed=False, units_per_kg=None, **overrides):
         self.params = chain_params(preset, units_per_kg, **overrides)
         self.fixed = bool(fixed)
         p = self.params
