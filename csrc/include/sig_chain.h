@@ -37,8 +37,10 @@
  *    the estimator has seen one difference, A0 takes every sample).  The
  *    given a0, motion_band, stable_step, zero_band, zero_rate are replaced.
  *    A restart also starts the Kalman estimate again from the new samples,
- *    and while the anti-pulse window is filling its trimmed mean is the
- *    estimate (the Kalman filter is re-seeded on it).  No sensor constant:
+ *    and while the anti-pulse window is filling, or the output is not yet
+ *    stable, the window's trimmed mean is the estimate (the Kalman filter
+ *    is re-seeded on it): a slow final approach of the load is forgotten
+ *    with the window instead of being averaged in.  No sensor constant:
  *    the float form is scale invariant (input * c -> output * c).
  *
  * Status: negative = error, nothing changed; otherwise OR of

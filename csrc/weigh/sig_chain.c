@@ -154,8 +154,8 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
         ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_f(&c->limit, m);
-    if (c->noise_auto && c->ap.count < c->ap.n)
-        (void)sig_kalman1_reset_f(&c->kf);      /* window filling: its trimmed mean is the estimate */
+    if (c->noise_auto && (c->ap.count < c->ap.n || !c->stable))
+        (void)sig_kalman1_reset_f(&c->kf);      /* settling: the window's trimmed mean is the estimate */
     /* m is finite (the anti-pulse mean is clamped to its window), so these
      * cannot fail; if they ever did, stop before using an unset estimate */
     st = sig_kalman1_step_f(&c->kf, m, &xk);
@@ -308,8 +308,8 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
         ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_q(&c->limit, m);
-    if (c->noise_auto && c->ap.count < c->ap.n)
-        (void)sig_kalman1_reset_q(&c->kf);      /* window filling: its trimmed mean is the estimate */
+    if (c->noise_auto && (c->ap.count < c->ap.n || !c->stable))
+        (void)sig_kalman1_reset_q(&c->kf);      /* settling: the window's trimmed mean is the estimate */
     (void)sig_kalman1_step_q(&c->kf, m7, &xk);
     (void)sig_stable_step_q(&c->st, xk, &stab);
     if (stab && sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))

@@ -759,8 +759,8 @@ class Chain:
                 self.motion_run = 0
                 ret |= CHAIN_MOTION
         self.limit.set_ref(m)
-        if self.noise_auto and self.ap.count < self.ap.n:
-            self.kf.reset()             # the window is filling: its trimmed mean is the estimate
+        if self.noise_auto and (self.ap.count < self.ap.n or not self.stable):
+            self.kf.reset()             # settling: the window's trimmed mean is the estimate
         xk = self.kf._step(m_k)
         stab = self.st._step(xk)
         if stab:
