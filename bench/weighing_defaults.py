@@ -350,6 +350,31 @@ def fmt(v, nd=2):
     return f"{v:.{nd}f}" if isinstance(v, float) else str(v)
 
 
+def _rounded(v):
+    """Floats to 5 significant digits (the figures carry no more)."""
+    if isinstance(v, float):
+        return float(f"{v:.5g}")
+    if isinstance(v, dict):
+        return {k: _rounded(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [_rounded(x) for x in v]
+    return v
+
+
+def write_json(out, fh):
+    """One row per line: the file stays small and diffs stay readable."""
+    out = _rounded(out)
+    fh.write("{\n")
+    for i, (k, v) in enumerate(out.items()):
+        if isinstance(v, list) and v and isinstance(v[0], dict):
+            body = ",\n  ".join(json.dumps(r) for r in v)
+            fh.write(f" {json.dumps(k)}: [\n  {body}\n ]")
+        else:
+            fh.write(f" {json.dumps(k)}: {json.dumps(v, indent=1)}")
+        fh.write(",\n" if i < len(out) - 1 else "\n")
+    fh.write("}\n")
+
+
 def print_tables(out):
     print("Synthetic grid: worst over seeds; settle_s = slowest step (s), steady std and glitch "
           "excursion in sigma")
@@ -427,7 +452,7 @@ def main(argv=None):
     print_tables(out)
     if a.json:
         with atomic_output(a.json) as fh:
-            json.dump(out, fh, indent=1, default=float)
+            write_json(out, fh)
         print(f"\nwrote {a.json}")
     if a.plot:
         os.makedirs(a.plot, exist_ok=True)
