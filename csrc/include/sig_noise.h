@@ -14,7 +14,9 @@
  *
  * Floor (a sensor stuck on one code still gets usable thresholds):
  *   fixed  sigma >= SIG_NOISE_FLOOR_Q7, a quarter code;
- *   float  sigma >= 2^-24 |x| (half a float ulp of the sample) and >= 1e-30.
+ *   float  sigma >= a quarter of the smallest non-zero |d| seen so far (one
+ *          code of a quantised signal, in any unit; tiny for a continuous
+ *          one), >= 2^-24 |x| (half a float ulp of the sample), >= 1e-30.
  * Ceiling: SIG_NOISE_MAX_Q7 (2^20 codes, so 6 sigma fits int32) and
  * SIG_NOISE_MAX_F.  A non-finite float sample changes nothing.
  *
@@ -39,6 +41,7 @@
 typedef struct {
     sig_real prev;      /* last finite sample */
     sig_real sigma;     /* the estimate, >= the floor */
+    sig_real res;       /* smallest non-zero |d| seen (the code size), 0 = none yet */
     uint8_t count;      /* updates so far (saturates at 255): the step size */
     bool has_prev;
 } sig_noise_f;

@@ -7,9 +7,11 @@ static bool finite_f(sig_real x)
     return x - x == SIG_REAL(0.0);
 }
 
-static sig_real floor_f(sig_real x)
+static sig_real floor_f(sig_real x, sig_real res)
 {
     sig_real f = (x < SIG_REAL(0.0) ? -x : x) * SIG_NOISE_FLOOR_REL;
+    sig_real q = res * SIG_REAL(0.25);
+    if (q > f) f = q;
     return f > SIG_NOISE_FLOOR_ABS ? f : SIG_NOISE_FLOOR_ABS;
 }
 
@@ -24,6 +26,7 @@ sig_status sig_noise_reset_f(sig_noise_f *s)
     if (!s) return SIG_ERR_ARG;
     s->prev = SIG_REAL(0.0);
     s->sigma = SIG_NOISE_FLOOR_ABS;
+    s->res = SIG_REAL(0.0);
     s->count = 0u;
     s->has_prev = false;
     return SIG_OK;
@@ -35,9 +38,11 @@ sig_status sig_noise_step_f(sig_noise_f *s, sig_real x, bool update)
     uint8_t sh;
     if (!s) return SIG_ERR_ARG;
     if (!finite_f(x)) return SIG_WARN_REJECTED;
+    d = x - s->prev;                            /* may overflow to inf: counts as large */
+    if (d < SIG_REAL(0.0)) d = -d;
+    if (s->has_prev && d > SIG_REAL(0.0) && d < SIG_NOISE_MAX_F && (d < s->res || s->res == SIG_REAL(0.0)))
+        s->res = d;                             /* the code size of a quantised signal */
     if (s->has_prev && update) {
-        d = x - s->prev;                        /* may overflow to inf: counts as large */
-        if (d < SIG_REAL(0.0)) d = -d;
         if (s->count == 0u) {
             s->sigma = d < SIG_NOISE_MAX_F ? d : SIG_NOISE_MAX_F;
         } else {
@@ -53,7 +58,7 @@ sig_status sig_noise_step_f(sig_noise_f *s, sig_real x, bool update)
         }
         if (s->count < 255u) s->count++;
     }
-    lo = floor_f(x);
+    lo = floor_f(x, s->res);
     if (s->sigma < lo) s->sigma = lo;
     s->prev = x;
     s->has_prev = true;
@@ -62,7 +67,7 @@ sig_status sig_noise_step_f(sig_noise_f *s, sig_real x, bool update)
 
 bool sig_noise_at_floor_f(const sig_noise_f *s)
 {
-    return s->sigma <= floor_f(s->prev);
+    return s->sigma <= floor_f(s->prev, s->res);
 }
 
 sig_status sig_noise_reset_q(sig_noise_q *s)

@@ -569,7 +569,9 @@ class NoiseEstimator:
     when |d| < sigma (s = 2, 3, 4, then 5 after 8, 24 and 56 updates).  For
     Gaussian noise it settles where P(|d| > sigma) = 0.48, i.e. sigma ~ the
     noise's standard deviation; a glitch or a step moves it by one step at
-    most.  Floor: a quarter code (fixed, Q24.7) or 2^-24 |x| (float)."""
+    most.  Floor: a quarter code (fixed, Q24.7); float: a quarter of the
+    smallest non-zero |d| seen (one code of a quantised signal), 2^-24 |x|
+    and 1e-30, the largest of the three."""
 
     def __init__(self, fixed=False):
         self.fixed = bool(fixed)
@@ -577,17 +579,22 @@ class NoiseEstimator:
 
     def reset(self):
         self.prev, self.has_prev, self.count = 0, False, 0
+        self.res = 0.0                  # float: smallest non-zero |d| seen (a code), 0 = none
         self.sigma = NOISE_FLOOR_Q7 if self.fixed else NOISE_FLOOR_ABS
 
     def floor(self, x):
         if self.fixed:
             return NOISE_FLOOR_Q7
-        return max(abs(x) * NOISE_FLOOR_REL, NOISE_FLOOR_ABS)
+        return max(abs(x) * NOISE_FLOOR_REL, self.res * 0.25, NOISE_FLOOR_ABS)
 
     def _step(self, x, update=True):
         """x: a clamped code (fixed) or a float; non-finite: nothing changes."""
         if not self.fixed and not math.isfinite(x):
             return
+        if not self.fixed:
+            dd = abs(x - self.prev)
+            if self.has_prev and 0 < dd < NOISE_MAX_F and (dd < self.res or self.res == 0):
+                self.res = dd
         if self.has_prev and update:
             if self.fixed:
                 d = abs(x - self.prev)

@@ -75,7 +75,7 @@ cdef extern from "sig_stable.h":
 
 cdef extern from "sig_noise.h":
     ctypedef struct sig_noise_f:
-        sig_real prev, sigma
+        sig_real prev, sigma, res
         uint8_t count
         c_bool has_prev
     ctypedef struct sig_noise_q:
