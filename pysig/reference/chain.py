@@ -180,6 +180,8 @@ def _noise_params(p, s):
     """chain_params() of the auto preset: thresholds from the noise sigma,
     measured on the fly (R auto) or sqrt(R) for an R given in kg^2."""
     for k in _NOISE_DERIVED:
+        if p[k] != AUTO:
+            _finite(k, p[k])
         _check(p[k] == AUTO, k, p[k], "follows the noise in the auto preset: leave it 'auto' "
                "(or choose another preset)")
     for k in ("Q", "P0", "x0"):
