@@ -90,8 +90,10 @@ def main(argv=None):
         rows.append((name, key, data.size, t, msps(data.size, t), msps(data.size, c)))
 
     upk = 1000.0 / 0.45359237          # HX711 counts per kg
-    measure("chain (C, float)", lambda: C.Chain(), x, "chain_msps")
-    measure("chain (C, fixed)", lambda: C.Chain(fixed=True), x, "chain_fixed_msps")
+    measure("chain (C, float, batch path)", lambda: C.Chain("recommended"), x, "chain_msps")
+    measure("chain (C, fixed)", lambda: C.Chain("recommended", fixed=True), x, "chain_fixed_msps")
+    measure("default chain (C, float, noise measured: step path)", lambda: C.Chain(), x, "chain_auto_msps")
+    measure("default chain (C, fixed, noise measured)", lambda: C.Chain(fixed=True), x, "chain_auto_fixed_msps")
     measure("limit stage (C, float)", lambda: C.LimitFilter(a0=2000.0, lockout_n=3), x, "limit_msps")
     measure("anti-pulse stage (C, float)", lambda: C.AntiPulse(window=12), x, "antipulse_msps")
     measure("Kalman stage (C, float)", lambda: C.Kalman1(Q=1e-7 * upk**2, R=0.05 * upk**2, x0=upk,
@@ -102,7 +104,7 @@ def main(argv=None):
     measure("anti-pulse stage (C, fixed)", lambda: C.AntiPulse(window=12, fixed=True), x, "antipulse_fixed_msps")
     measure("Kalman stage (C, fixed)", lambda: C.Kalman1(Q=1e-7 * upk**2, R=0.05 * upk**2, x0=upk,
                                                         P0=10 * upk**2, fixed=True), x, "kalman_fixed_msps")
-    measure("reference chain (Python, float)", lambda: R.Chain(), part, "reference_msps")
+    measure("reference chain (Python, float)", lambda: R.Chain("recommended"), part, "reference_msps")
     t, c = best_time(lambda: filterpy_kalman(part), 1)
     rows.append(("filterpy KalmanFilter (Kalman stage)", "filterpy_kalman_msps", part.size, t, msps(part.size, t),
                  msps(part.size, c)))

@@ -197,23 +197,28 @@ def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False) -> d
             "compact_error_lsb": round(max(case.compact.error_lsb), 4)}
 
 
+def _chain_tag(case):
+    """build names per preset ("" for the table's reference preset)"""
+    return "" if case.preset == vectors.CHAIN_PRESET else f"-{case.preset}"
+
+
 def chain_rows_msp430(form: str, hwmult: bool, case, vdd: float) -> dict:
-    gen = runner.BUILD_DIR / "gen" / "chain"
+    gen = runner.BUILD_DIR / "gen" / f"chain{_chain_tag(case)}"
     vectors.write_chain_header(case, gen / "chain_vectors.h")
     fl = form == "float"
     func = "sig_chain_step_f" if fl else "sig_chain_step_q"
     img = runner.build_msp430(CHAIN_SRC, HARNESS / "chain_harness.c", ["BENCH_FLOAT"] if fl else [],
-                              hwmult=hwmult, include_dirs=[gen], name=f"chain-{form}")
+                              hwmult=hwmult, include_dirs=[gen], name=f"chain{_chain_tag(case)}-{form}")
     n = len(case.x)
     r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
                        reads={"vec_out": 4 * n, "vec_status": 2 * n})
     _check_chain(case, form, r["reads"])
-    _IMAGES[("chain", form, hwmult)] = (img, r["funcs"][func]["instructions"])
+    _IMAGES[("chain" + _chain_tag(case), form, hwmult)] = (img, r["funcs"][func]["instructions"])
     clos = runner.code_closure(img, func)
     one = r["funcs"][func]
     state = runner.symbol_size(img, "chain")
     t_us = one["cycles"] / MCLK_HZ * 1e6
-    return {"target": "msp430f5510", "form": form,
+    return {"target": "msp430f5510", "form": form, "preset": case.preset,
             "multiplier": "hw (16x16 MPY at 0x0130 in the simulator)" if hwmult else "none",
             "cycles": one["cycles"], "instructions": one["instructions"],
             "cycles_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
@@ -250,16 +255,16 @@ def chain_row_mcs51(form: str, case) -> dict:
     opcode histogram x STC-Y5 table.  Code: the functions reachable from the
     step (.rst call graph); RAM: chain state (xdata) + internal-RAM stack
     high-water of the call."""
-    gen = runner.BUILD_DIR / "gen" / "chain"
+    gen = runner.BUILD_DIR / "gen" / f"chain{_chain_tag(case)}"
     vectors.write_chain_header(case, gen / "chain_vectors.h")
     fl = form == "float"
     func = "sig_chain_step_f" if fl else "sig_chain_step_q"
     row = {"target": "8051 (s51 -t C52, sdcc --model-large --stack-auto)", "form": form,
-           "ops": chain_ops(form)}
+           "preset": case.preset, "ops": chain_ops(form)}
     try:
         img = runner.build_mcs51(CHAIN_SRC, HARNESS / "chain_harness.c",
                                  ["BENCH_FLOAT"] if fl else [], include_dirs=[gen],
-                                 name=f"chain-{form}", extra_flags=MCS51_CHAIN_FLAGS)
+                                 name=f"chain{_chain_tag(case)}-{form}", extra_flags=MCS51_CHAIN_FLAGS)
     except runner.McuError as e:
         row.update(status="does not build", error=[ln for ln in str(e).splitlines()
                                                     if "ASlink-Error" in ln or "warning" in ln])
@@ -270,7 +275,7 @@ def chain_row_mcs51(form: str, case) -> dict:
     if r["total"].get("stack_overflow"):
         raise SystemExit(f"chain {form} on the 8051: the stack passed 0xFF (s51)")
     _check_chain(case, form, r["reads"])
-    _IMAGES[("chain", form, "mcs51")] = (img, r["funcs"][func]["instructions"])
+    _IMAGES[("chain" + _chain_tag(case), form, "mcs51")] = (img, r["funcs"][func]["instructions"])
     one = r["funcs"][func]
     clos = runner.code_closure(img, func)
     state = _mcs51_xdata_size(img, "chain")
@@ -423,15 +428,18 @@ def print_table1(t1, a):
 
 
 def table2(a):
-    case = vectors.chain_case()
-    t2 = [chain_rows_msp430(f, hw, case, a.vdd) for hw in (True, False) for f in ("fixed", "float")]
-    if not a.no_8051:
-        t2 += [chain_row_mcs51(f, case) for f in ("fixed", "float")]
+    t2 = []
+    for case in (vectors.chain_case(), vectors.chain_case(preset="auto")):
+        t2 += [chain_rows_msp430(f, hw, case, a.vdd) for hw in (True, False) for f in ("fixed", "float")]
+        if not a.no_8051:
+            t2 += [chain_row_mcs51(f, case) for f in ("fixed", "float")]
+    _estimator_cost(t2)
     print("\nTable 2 - one weighing-chain step (limit + anti-pulse + Kalman + stability), "
-          f"preset {case.preset!r}, {len(case.x)} samples")
-    cols = ["target", "multiplier", "form", "cycles", "cycles_avg_batch", "time_us", "text_bytes",
+          f"presets {vectors.CHAIN_PRESET!r} and 'auto' (the default: + noise estimator), "
+          f"{len(vectors.chain_case().x)} samples")
+    cols = ["target", "multiplier", "form", "preset", "cycles", "cycles_avg_batch", "time_us", "text_bytes",
             "helper_bytes", "ram_bytes", "stack_bytes", "clocks_12T", "clocks_12T_avg_batch",
-            "clocks_1T_estimate", "status"]
+            "clocks_1T_estimate", "auto_over_recommended", "status"]
     print(_table(t2, cols))
     for r in t2:
         if r.get("status") == "does not build":
@@ -447,6 +455,20 @@ def table2(a):
     if t3:
         print("\n8051 compensation, order 2, 3 axes:", json.dumps(t3[0]))
     return t2, t3
+
+
+def _estimator_cost(t2):
+    """auto rows: their step (one call on the settled chain, and the batch
+    average) over the same target's and form's recommended step - 1."""
+    def key(r):
+        return (r["target"], r.get("multiplier"), r["form"])
+    ref = {key(r): r for r in t2 if r["preset"] == vectors.CHAIN_PRESET and r.get("status", "ok") == "ok"}
+    for r in t2:
+        base = ref.get(key(r))
+        if r["preset"] == "auto" and base and r.get("status", "ok") == "ok":
+            c = "clocks_12T" if "clocks_12T" in r else "cycles"
+            r["auto_over_recommended"] = round(r[c] / base[c] - 1.0, 3)
+            r["auto_over_recommended_batch"] = round(r[c + "_avg_batch"] / base[c + "_avg_batch"] - 1.0, 3)
 
 
 def targets(t1, t2, a):
@@ -474,6 +496,12 @@ def targets(t1, t2, a):
         checks.append({"target": "float/fixed16_inline cycles >= 10x (order 2, hw)",
                        "measured": round(f2["cycles"] / i2["cycles"], 2),
                        "met": f2["cycles"] >= 10 * i2["cycles"]})
+    for r in t2:                      # the default's noise estimator on today's fixed step
+        if r["preset"] == "auto" and r["form"] == "fixed" and "auto_over_recommended" in r:
+            where = r["target"].split()[0] + (f", {r['multiplier'].split()[0]} multiplier"
+                                              if "multiplier" in r else "")
+            checks.append({"target": f"auto (noise measured) adds <= 15 % to the fixed chain step ({where})",
+                           "measured": r["auto_over_recommended"], "met": r["auto_over_recommended"] <= 0.15})
     c51 = next((r for r in t2 if r["target"].startswith("8051") and r["form"] == "fixed"), None)
     if c51:
         checks.append({"target": "fixed chain step on the 8051 <= 3000 12T clocks",

@@ -9,7 +9,8 @@ plateaus found automatically, runs raw / paper_chain / kalman / recommended
 prints and writes, per channel and configuration: glitches_passed,
 plateaus_missed, settle_s_max, plateau_err_lb_max, plateau_noise_lb; for
 the no-load channels lc3..lc6 zero noise and zero drift before and after
-filtering.  One PNG per channel in DIR.
+filtering.  "auto" is the package default (noise measured on the fly),
+"auto_fixed" its fixed-point form on codes.  One PNG per channel in DIR.
 
 JSON: {"rows": [...loaded-channel rows...], "zero_rows": [...],
 "calibration": {...}, "definitions": {...}, "source": ...}.
@@ -26,7 +27,7 @@ from pysig.weigh import recording  # noqa: E402
 from pysig.io import atomic_output  # noqa: E402
 
 SHARED = HERE.parent.parent / "shared" / "data" / "hx711_steps_10hz" / "hx711_steps_10hz.csv"
-CONFIGS = recording.CONFIGS + ("recommended_fixed",)
+CONFIGS = recording.CONFIGS + ("recommended_fixed", "auto_fixed")
 
 
 def fmt(v, nd=3):
@@ -87,10 +88,11 @@ def print_tables(out):
                           f"{r['plateaus_missed']}/{r['plateaus']}", fmt(r["settle_s_max"], 1),
                           fmt(r["plateau_err_lb_max"]), fmt(r["plateau_noise_lb"])]))
     print()
-    print("settle time per step (s), recommended: " + "; ".join(
-        f"{r['channel']}: {', '.join(fmt(s, 1) for s in r['settle_s'])} (hand + swing: "
-        f"{', '.join(fmt(s, 1) for s in r['motion_s'])})"
-        for r in out["rows"] if r["config"] == "recommended"))
+    for config in ("recommended", "auto"):
+        print(f"settle time per step (s), {config}: " + "; ".join(
+            f"{r['channel']}: {', '.join(fmt(s, 1) for s in r['settle_s'])} (hand + swing: "
+            f"{', '.join(fmt(s, 1) for s in r['motion_s'])})"
+            for r in out["rows"] if r["config"] == config))
     head = ("channel", "config", "glitches_passed", "zero_noise_lb", "zero_drift_lb")
     print()
     print(" | ".join(head))

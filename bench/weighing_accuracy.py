@@ -25,8 +25,8 @@ Setup (every figure is a median and a worst case over --seeds seeds):
   1, P0 10); the paper's chain (preset "paper"); "adaptive": the paper's
   parameters with the lock-out fix (5 rejections) and the motion-aware mode
   (band 4 sigma of the window mean from the measured noise, 2 samples);
-  "adaptive_preset" and "recommended": Chain(preset="adaptive") and the
-  package default Chain(preset="recommended") as shipped, given the sensor's
+  "adaptive_preset" and "recommended": Chain(preset="adaptive") and
+  Chain(preset="recommended") (the package default before "auto"), given the sensor's
   noise R (the variance of one reading, measured on a still record at the
   heaviest load, pysig.weigh.scale.noise_sigma): their A0 / motion band are
   derived from R ("auto", pysig.reference.chain.PRESETS);

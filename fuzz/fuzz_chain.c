@@ -16,7 +16,11 @@
  *   - both: 0 <= window count <= N, head < N, stability run >= 0;
  *   - fixed: held window codes and Dc stay in +-SIG_CODE_MAX, 0 < y <= 1.0
  *     (Q30), the Kalman estimate stays within the hull of x0 and the codes,
- *     and the output is exactly sat32(x - offset): it saturates, never wraps. */
+ *     and the output is exactly sat32(x - offset): it saturates, never wraps;
+ *   - noise measured on the fly (noise_auto, steered): sigma stays within
+ *     its floor and ceiling, never NaN, and the thresholds are exactly the
+ *     multiples of sigma that sig_chain.h states (A0 >= 1 code when fixed);
+ *     hold-off <= window, skip count <= 2 x SIG_CHAIN_NOISE_FROZEN_MAX. */
 #include <stdlib.h>
 
 #include "fuzz_input.h"
@@ -26,8 +30,33 @@
 
 static int not_nan(sig_real x) { return x == x; }
 
+static void check_noise_f(const sig_chain_f *c)
+{
+    sig_real s = c->noise.sigma;
+    if (!c->noise_auto) return;
+    REQUIRE(not_nan(s) && s >= SIG_NOISE_FLOOR_ABS && s <= SIG_NOISE_MAX_F);
+    REQUIRE(c->limit.a0 == SIG_REAL(6.0) * (c->noise.count == 0u ? SIG_NOISE_MAX_F : s));
+    REQUIRE(c->motion_band == SIG_REAL(1.5) * s);
+    REQUIRE(c->st.step == SIG_REAL(0.25) * s && c->zero_band == SIG_REAL(2.0) * s);
+    REQUIRE(c->zero_rate == SIG_REAL(0.0625) * s);
+    REQUIRE(c->holdoff <= c->ap.n && c->frozen <= 2u * SIG_CHAIN_NOISE_FROZEN_MAX);
+}
+
+static void check_noise_q(const sig_chain_q *c)
+{
+    int32_t s = c->noise.sigma;
+    if (!c->noise_auto) return;
+    REQUIRE(s >= SIG_NOISE_FLOOR_Q7 && s <= SIG_NOISE_MAX_Q7);
+    REQUIRE(c->noise.count == 0u ? c->limit.a0 == 2 * SIG_CODE_MAX
+            : c->limit.a0 == (((int64_t)s * 6 + 64) >> 7 > 0 ? ((int64_t)s * 6 + 64) >> 7 : 1));
+    REQUIRE(c->motion_band == s + s / 2 && c->st.step == s / 4 && c->zero_band == 2 * s && c->zero_rate == s / 16);
+    REQUIRE(c->holdoff <= c->ap.n && c->frozen <= 2u * SIG_CHAIN_NOISE_FROZEN_MAX);
+    REQUIRE(!c->noise.has_prev || (c->noise.prev >= -SIG_CODE_MAX && c->noise.prev <= SIG_CODE_MAX));
+}
+
 static void check_f(const sig_chain_f *c)
 {
+    check_noise_f(c);
     REQUIRE(c->ap.count <= c->ap.n && c->ap.head < c->ap.n);
     REQUIRE(not_nan(c->kf.x) && not_nan(c->kf.p) && not_nan(c->kf.k));
     REQUIRE(c->kf.p >= 0 && c->kf.k >= 0 && c->kf.k <= 1);
@@ -39,6 +68,7 @@ static void check_q(const sig_chain_q *c, int32_t x0)
     unsigned i;
     int64_t hull = (int64_t)SIG_CODE_MAX * 128, ax0 = x0 < 0 ? -(int64_t)x0 : x0;
     if (ax0 > hull) hull = ax0;
+    check_noise_q(c);
     REQUIRE(c->ap.count <= c->ap.n && c->ap.head < c->ap.n);
     for (i = 0; i < c->ap.count; i++) REQUIRE(c->ap.buf[i] >= -SIG_CODE_MAX && c->ap.buf[i] <= SIG_CODE_MAX);
     REQUIRE(!c->limit.seeded || (c->limit.dc >= -SIG_CODE_MAX && c->limit.dc <= SIG_CODE_MAX));
@@ -75,6 +105,7 @@ static void fuzz_float(fuzz_input *in)
         p.motion_band = fuzz_real(in); p.motion_count = fuzz_u8(in);
         p.zero_band = fuzz_real(in); p.zero_rate = fuzz_real(in);
     }
+    p.noise_auto = (steer & 4u) != 0;
     memset(&c, 0x77, sizeof c);
     before = c;
     st = sig_chain_init_f(&c, &p);
@@ -153,6 +184,7 @@ static void fuzz_fixed(fuzz_input *in)
         p.motion_band_q7 = fuzz_i32_edgy(in); p.motion_count = fuzz_u8(in);
         p.zero_band_q7 = fuzz_i32_edgy(in); p.zero_rate_q7 = fuzz_i32_edgy(in);
     }
+    p.noise_auto = (steer & 4u) != 0;
     memset(&c, 0x77, sizeof c);
     before = c;
     st = sig_chain_init_q(&c, &p);

@@ -294,7 +294,7 @@ def test_bad_parameters_raise_named_errors(kw, name, fixed):
 
 def test_fixed_only_limits_are_named():
     with pytest.raises(RangeError, match="Q"):
-        C.Chain(fixed=True, Q=1.0, R=0.5)             # Q/R > 1 has no Q30 form
+        C.Chain("recommended", fixed=True, Q=1.0, R=0.5)           # Q/R > 1 has no Q30 form
     with pytest.raises(RangeError, match="window"):
         C.AntiPulse(window=40)
     with pytest.raises(RangeError, match="R"):
@@ -349,4 +349,4 @@ def test_presets_paper_values():
     assert p["lockout_n"] == 0 and p["motion_band"] == 0 and p["zero_band"] == 0
     s = C.chain_params("paper", units_per_kg=1000.0)
     assert s["Q"] == pytest.approx(0.1) and s["R"] == pytest.approx(5e4) and s["A0"] == 2000.0
-    assert C.Chain().params == C.chain_params("recommended")
+    assert C.Chain().params == C.chain_params("auto")

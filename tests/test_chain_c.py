@@ -7,7 +7,8 @@ import subprocess
 
 import pytest
 
-from conftest import CSRC_INCLUDE, c_source, require_tool
+from conftest import CSRC_INCLUDE, require_tool
+from pysig.mcu.runner import csrc_sources
 
 PROGRAM = r"""
 #include <stdio.h>
@@ -67,6 +68,7 @@ int main(void)
     pq.a0 = 1000; pq.window = 12; pq.q_q30 = 2147u; pq.p0_q16 = 13107200u; pq.x0_q7 = 0;
     pq.seed_first = true; pq.stable_step_q7 = 128; pq.stable_count = 1; pq.lockout_n = 3;
     pq.motion_band_q7 = 0; pq.motion_count = 1; pq.zero_band_q7 = 0; pq.zero_rate_q7 = 0;
+    pq.noise_auto = false;
     EXPECT(sig_chain_init_q(&cq, &pq) == SIG_OK);
     EXPECT(sig_chain_step_q(&cq, 5000, &outq, &stable) >= 0);
     badq = pq; badq.a0 = 0;                          UNCHANGED(&cq, sig_chain_init_q(&cq, &badq), SIG_ERR_ARG);
@@ -157,6 +159,7 @@ int main(void)
         pf.motion_count = (uint8_t)(1u + next() % 3u);
         pf.zero_band = (next() & 1u) ? SIG_REAL(300.0) : SIG_REAL(0.0);
         pf.zero_rate = SIG_REAL(1.5);
+        pf.noise_auto = round % 5 == 4;            /* thresholds from the measured noise */
         for (i = 0; i < N; i++) {                  /* steps, noise, glitches, non-finite, huge */
             uint32_t r = next() % 1000u;
             if (r < 4u) level = (sig_real)(next() % 5u) * SIG_REAL(10000.0);
@@ -197,6 +200,7 @@ int main(void)
         pq.stable_count = pf.stable_count; pq.lockout_n = pf.lockout_n;
         pq.motion_band_q7 = (int32_t)pf.motion_band * 128; pq.motion_count = pf.motion_count;
         pq.zero_band_q7 = (int32_t)pf.zero_band * 128; pq.zero_rate_q7 = 192;
+        pq.noise_auto = pf.noise_auto;
         memset(&qa, 0, sizeof qa); memset(&qb, 0, sizeof qb);
         if (sig_chain_init_q(&qa, &pq) != SIG_OK || sig_chain_init_q(&qb, &pq) != SIG_OK) { printf("init q\n"); return 1; }
         for (i = 0; i < N; i++) {
@@ -234,8 +238,7 @@ def run_chain_program(tmp_path, name, program, real, opt):
     src.write_text(program)
     exe = tmp_path / name
     defs = ["-DSIG_REAL_DOUBLE"] if real == "double" else []
-    sources = [str(c_source(f"sig_{n}")) for n in ("limit", "antipulse", "kalman1", "stable", "chain",
-                                                   "chain_batch")]
+    sources = [str(f) for f in csrc_sources("sig_chain_batch")]    # the chain and every module it includes
     build = subprocess.run([gcc, "-std=c99", opt, "-Wall", "-fsanitize=undefined,address",
                             "-fno-sanitize-recover=all", *defs, "-I", str(CSRC_INCLUDE), str(src), *sources,
                             "-o", str(exe)], capture_output=True, text=True)

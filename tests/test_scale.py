@@ -101,3 +101,20 @@ def test_quantize_keeps_precision():
     assert off == 85899
     assert 2**30 <= abs(mant) <= 2**31 - 1
     assert abs(mant / 2.0 ** (16 + shift) * 64424.5 - 1) < 2e-9
+
+
+@pytest.mark.parametrize("offset,gain", [(5808.4, 1 / 997.1), (-12459.0, 4.5e-4), (0.0, -2.2e-3),
+                                         (1e9, 1e-9), (3.0, 1e-20), (0.0, 0.0), (float("nan"), 1.0),
+                                         (3e9, 1.0), (0.0, 1e6)])
+def test_library_quantize_equals_the_spec(offset, gain):
+    """The library's scale image (pysig.weigh.scale) is the spec's, refusals included."""
+    from pysig.errors import RangeError
+    from pysig.reference import scale as ref
+    from pysig.weigh import scale as lib
+    try:
+        want = ref.quantize(offset, gain)
+    except RangeError as exc:
+        with pytest.raises(RangeError, match=str(exc).split(":")[0]):
+            lib.quantize(offset, gain)
+        return
+    assert lib.quantize(offset, gain) == want

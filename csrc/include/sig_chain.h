@@ -26,6 +26,23 @@
  * SIG_WARN_CLAMPED); output, offset, thresholds of the Kalman side in Q24.7
  * (codes * 128); see sig_kalman1.h for the gain formats.
  *
+ *  - noise measured on the fly (noise_auto): a sig_noise estimator sees
+ *    every sample unless it or the one before was an impulse or the load
+ *    is moving (a restart or re-seed and `window` samples after it, or a
+ *    motion run under way; see SIG_CHAIN_NOISE_FROZEN_MAX), and before
+ *    each sample the thresholds follow its sigma:
+ *        A0 = 6 sigma, motion_band = 1.5 sigma, stable_step = sigma / 4,
+ *        zero_band = 2 sigma, zero_rate = sigma / 16 per sample
+ *    (the fixed form by shifts and adds; A0 in codes, rounded, >= 1; until
+ *    the estimator has seen one difference, A0 takes every sample).  The
+ *    given a0, motion_band, stable_step, zero_band, zero_rate are replaced.
+ *    A restart also starts the Kalman estimate again from the new samples,
+ *    and while the anti-pulse window is filling, or the output is not yet
+ *    stable, the window's trimmed mean is the estimate (the Kalman filter
+ *    is re-seeded on it): a slow final approach of the load is forgotten
+ *    with the window instead of being averaged in.  No sensor constant:
+ *    the float form is scale invariant (input * c -> output * c).
+ *
  * Status: negative = error, nothing changed; otherwise OR of
  * SIG_WARN_CLAMPED, SIG_WARN_REJECTED (limit replaced the sample, or a
  * non-finite sample), SIG_LIMIT_RESEEDED, SIG_CHAIN_MOTION, SIG_CHAIN_TARED.
@@ -39,9 +56,19 @@
 #include "sig_antipulse.h"
 #include "sig_kalman1.h"
 #include "sig_stable.h"
+#include "sig_noise.h"
 
 #define SIG_CHAIN_MOTION ((sig_status)32)   /* motion detected: window and P restarted */
 #define SIG_CHAIN_TARED  ((sig_status)64)   /* a pending tare was applied on this sample */
+#define SIG_CHAIN_NOISE_FLOOR ((sig_status)128)   /* noise_auto: the measured noise is at its floor
+                                                     (stuck sensor, or below a quarter code) */
+
+/* noise_auto: a count goes up by one on each sample the noise estimator
+ * skips (restart, re-seed, hold-off, a motion run, an impulse) and down by
+ * one on each other sample (between 0 and twice this); from this value on
+ * the estimator sees every sample, with its warm-up steps again: so much
+ * motion is noise, and a lasting rise in noise cannot freeze the estimate. */
+#define SIG_CHAIN_NOISE_FROZEN_MAX 64u
 
 typedef struct {
     sig_real a0;            /* limit threshold, > 0 */
@@ -55,6 +82,7 @@ typedef struct {
     uint8_t motion_count;   /* >= 1 */
     sig_real zero_band;     /* 0 = no zero tracking */
     sig_real zero_rate;     /* max offset change per sample, >= 0 */
+    bool noise_auto;        /* thresholds follow the measured noise (see above) */
 } sig_chain_params_f;
 
 typedef struct {
@@ -71,6 +99,7 @@ typedef struct {
     uint8_t motion_count;
     int32_t zero_band_q7;   /* Q24.7, 0 = off */
     int32_t zero_rate_q7;   /* Q24.7 per sample, >= 0 */
+    bool noise_auto;
 } sig_chain_params_q;
 
 typedef struct {
@@ -83,6 +112,9 @@ typedef struct {
     sig_real out;           /* last output */
     uint8_t motion_count, motion_run;
     bool tare_pending, stable, has_out;
+    bool noise_auto, rejected_prev;
+    uint8_t holdoff, frozen; /* noise_auto: samples of hold-off left, skip count (SIG_CHAIN_NOISE_FROZEN_MAX) */
+    sig_noise_f noise;
 } sig_chain_f;
 
 typedef struct {
@@ -95,6 +127,9 @@ typedef struct {
     int32_t out;            /* Q24.7 */
     uint8_t motion_count, motion_run;
     bool tare_pending, stable, has_out;
+    bool noise_auto, rejected_prev;
+    uint8_t holdoff, frozen;
+    sig_noise_q noise;
 } sig_chain_q;
 
 /* The paper's parameters in kg: Q 1e-7, R 0.05, x0 1, P0 10, N 12, A0 2 kg

@@ -1,5 +1,6 @@
 /* sig_chain.c - the weighing chain, float and fixed; see sig_chain.h. */
 #include "sig_chain.h"
+#include "sig_chain_stages.h"
 
 static bool is_finite(sig_real x)
 {
@@ -28,6 +29,7 @@ sig_status sig_chain_params_paper_f(sig_chain_params_f *p)
     p->motion_count = 1u;
     p->zero_band = SIG_REAL(0.0);
     p->zero_rate = SIG_REAL(0.0);
+    p->noise_auto = false;
     return SIG_OK;
 }
 
@@ -42,6 +44,57 @@ static bool params_ok_f(const sig_chain_params_f *p)
         && nonneg_finite(p->zero_band) && nonneg_finite(p->zero_rate);
 }
 
+/* The load moved: P back to P0; with noise_auto the estimate also starts
+ * again from the new samples (reset; the next step seeds it). */
+static void restart_kf_f(sig_chain_f *c)
+{
+    if (c->noise_auto) (void)sig_kalman1_reset_f(&c->kf);
+    else (void)sig_kalman1_restart_f(&c->kf);
+}
+
+static void restart_kf_q(sig_chain_q *c)
+{
+    if (c->noise_auto) (void)sig_kalman1_reset_q(&c->kf);
+    else (void)sig_kalman1_restart_q(&c->kf);
+}
+
+/* noise_auto: the thresholds from the measured sigma (sig_chain.h) */
+static void set_thresholds_f(sig_chain_f *c)
+{
+    sig_real s = c->noise.sigma;
+    if (!c->noise_auto) return;
+    /* no difference seen yet: no impulse can be told from noise, take all */
+    c->limit.a0 = SIG_REAL(6.0) * (c->noise.count == 0u ? SIG_NOISE_MAX_F : s);
+    c->motion_band = SIG_REAL(1.5) * s;
+    c->st.step = SIG_REAL(0.25) * s;
+    c->zero_band = SIG_REAL(2.0) * s;
+    c->zero_rate = SIG_REAL(0.0625) * s;
+}
+
+/* noise_auto, after the stages: update the estimator unless the load moves
+ * (sig_chain.h), then the thresholds; the floor flag */
+static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
+{
+    bool event = (ret & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED)) != 0;
+    bool rejected = (ret & SIG_WARN_REJECTED) != 0;
+    bool update;
+    if (event) c->holdoff = c->ap.n;
+    else if (c->holdoff > 0u) c->holdoff--;
+    if (!event && !rejected && !c->rejected_prev && c->holdoff == 0u && c->motion_run == 0u) {
+        if (c->frozen > 0u) c->frozen--;
+        update = true;
+    } else {
+        if (c->frozen < 2u * SIG_CHAIN_NOISE_FROZEN_MAX) c->frozen++;
+        if (c->frozen == SIG_CHAIN_NOISE_FROZEN_MAX && c->noise.count > 8u)
+            c->noise.count = 8u;                /* the noise changed: large steps again */
+        update = c->frozen >= SIG_CHAIN_NOISE_FROZEN_MAX || c->noise.count < SIG_NOISE_WARMUP;
+    }
+    c->rejected_prev = rejected;
+    (void)sig_noise_step_f(&c->noise, x, update);
+    set_thresholds_f(c);
+    return sig_noise_at_floor_f(&c->noise) ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
+}
+
 sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p)
 {
     if (!c || !p || !params_ok_f(p)) return SIG_ERR_ARG;
@@ -53,6 +106,7 @@ sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p)
     c->motion_count = p->motion_count;
     c->zero_band = p->zero_band;
     c->zero_rate = p->zero_rate;
+    c->noise_auto = p->noise_auto;
     return sig_chain_reset_f(c);
 }
 
@@ -69,13 +123,18 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->tare_pending = false;
     c->stable = false;
     c->has_out = false;
+    c->rejected_prev = false;
+    c->holdoff = 0u;
+    c->frozen = 0u;
+    (void)sig_noise_reset_f(&c->noise);
+    set_thresholds_f(c);
     return SIG_OK;
 }
 
 sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *stable)
 {
     sig_status st, ret;
-    sig_real y, m, xk, e, dz;
+    sig_real y, m, xk;
     bool stab;
     if (!c || !out || !stable) return SIG_ERR_ARG;
     st = sig_limit_step_f(&c->limit, x, &y);
@@ -83,49 +142,32 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     ret = st;
     if ((st & SIG_LIMIT_RESEEDED) != 0) {
         (void)sig_antipulse_reset_f(&c->ap);
-        if (c->motion_band > SIG_REAL(0.0)) (void)sig_kalman1_restart_f(&c->kf);
+        if (c->motion_band > SIG_REAL(0.0)) restart_kf_f(c);
         c->motion_run = 0u;
     }
     (void)sig_antipulse_step_f(&c->ap, y, &m);
-    if (c->motion_band > SIG_REAL(0.0) && c->kf.seeded) {
-        e = m - c->kf.x;
-        if (e > c->motion_band || -e > c->motion_band) {
-            if (c->motion_run < 255u) c->motion_run++;
-        } else {
-            c->motion_run = 0u;
-        }
-        if (c->motion_run >= c->motion_count) {
-            (void)sig_antipulse_reset_f(&c->ap);
-            (void)sig_antipulse_step_f(&c->ap, y, &m);
-            (void)sig_kalman1_restart_f(&c->kf);
-            c->motion_run = 0u;
-            ret = (sig_status)(ret | SIG_CHAIN_MOTION);
-        }
+    if (c->motion_band > SIG_REAL(0.0) && c->kf.seeded
+        && sig_chain_motion_f(m - c->kf.x, c->motion_band, &c->motion_run, c->motion_count)) {
+        (void)sig_antipulse_reset_f(&c->ap);
+        (void)sig_antipulse_step_f(&c->ap, y, &m);
+        restart_kf_f(c);
+        ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_f(&c->limit, m);
+    if (c->noise_auto && (c->ap.count < c->ap.n || !c->stable))
+        (void)sig_kalman1_reset_f(&c->kf);      /* settling: the window's trimmed mean is the estimate */
     /* m is finite (the anti-pulse mean is clamped to its window), so these
      * cannot fail; if they ever did, stop before using an unset estimate */
     st = sig_kalman1_step_f(&c->kf, m, &xk);
     if (st < 0) return st;
     st = sig_stable_step_f(&c->st, xk, &stab);
     if (st < 0) return st;
-    if (stab) {
-        if (c->tare_pending) {
-            c->offset = xk;
-            c->tare_pending = false;
-            ret = (sig_status)(ret | SIG_CHAIN_TARED);
-        } else if (c->zero_band > SIG_REAL(0.0)) {
-            dz = xk - c->offset;
-            if (dz <= c->zero_band && -dz <= c->zero_band) {
-                if (dz > c->zero_rate) dz = c->zero_rate;
-                if (dz < -c->zero_rate) dz = -c->zero_rate;
-                c->offset += dz;
-            }
-        }
-    }
+    if (stab && sig_chain_offset_f(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
+        ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = xk - c->offset;
     c->stable = stab;
     c->has_out = true;
+    if (c->noise_auto) ret = noise_step_f(c, x, ret);
     *out = c->out;
     *stable = stab;
     return ret;
@@ -134,10 +176,9 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
 sig_status sig_chain_tare_f(sig_chain_f *c)
 {
     if (!c) return SIG_ERR_ARG;
-    if (c->has_out && c->stable) {
-        c->offset = c->kf.x;
+    if (c->has_out && c->stable) {             /* stable now: the tare of a stable sample */
+        sig_chain_take_tare_f(c->kf.x, &c->offset, &c->tare_pending);
         c->out = SIG_REAL(0.0);
-        c->tare_pending = false;
         return SIG_CHAIN_TARED;
     }
     c->tare_pending = true;
@@ -170,6 +211,42 @@ static bool params_ok_q(const sig_chain_params_q *p)
         && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0;
 }
 
+static void set_thresholds_q(sig_chain_q *c)
+{
+    int32_t s = c->noise.sigma;                 /* Q24.7, <= 2^27: 6 s fits */
+    int32_t s2, a0;
+    if (!c->noise_auto) return;
+    s2 = s << 1;
+    a0 = (s2 + s2 + s2 + 64) >> 7;              /* 6 s, rounded to codes; no multiply */
+    c->limit.a0 = c->noise.count == 0u ? 2 * SIG_CODE_MAX : (a0 > 0 ? a0 : 1);
+    c->motion_band = s + (s >> 1);
+    c->st.step = s >> 2;
+    c->zero_band = s2;
+    c->zero_rate = s >> 4;
+}
+
+static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)
+{
+    bool event = (ret & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED)) != 0;
+    bool rejected = (ret & SIG_WARN_REJECTED) != 0;
+    bool update;
+    if (event) c->holdoff = c->ap.n;
+    else if (c->holdoff > 0u) c->holdoff--;
+    if (!event && !rejected && !c->rejected_prev && c->holdoff == 0u && c->motion_run == 0u) {
+        if (c->frozen > 0u) c->frozen--;
+        update = true;
+    } else {
+        if (c->frozen < 2u * SIG_CHAIN_NOISE_FROZEN_MAX) c->frozen++;
+        if (c->frozen == SIG_CHAIN_NOISE_FROZEN_MAX && c->noise.count > 8u)
+            c->noise.count = 8u;                /* the noise changed: large steps again */
+        update = c->frozen >= SIG_CHAIN_NOISE_FROZEN_MAX || c->noise.count < SIG_NOISE_WARMUP;
+    }
+    c->rejected_prev = rejected;
+    (void)sig_noise_step_q(&c->noise, x, update);
+    set_thresholds_q(c);
+    return c->noise.sigma <= SIG_NOISE_FLOOR_Q7 ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
+}
+
 sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p)
 {
     if (!c || !p || !params_ok_q(p)) return SIG_ERR_ARG;
@@ -181,6 +258,7 @@ sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p)
     c->motion_count = p->motion_count;
     c->zero_band = p->zero_band_q7;
     c->zero_rate = p->zero_rate_q7;
+    c->noise_auto = p->noise_auto;
     return sig_chain_reset_q(c);
 }
 
@@ -197,13 +275,18 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->tare_pending = false;
     c->stable = false;
     c->has_out = false;
+    c->rejected_prev = false;
+    c->holdoff = 0u;
+    c->frozen = 0u;
+    (void)sig_noise_reset_q(&c->noise);
+    set_thresholds_q(c);
     return SIG_OK;
 }
 
 sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *stable)
 {
     sig_status ret = SIG_OK;
-    int32_t y, m, m7, xk, dz;
+    int32_t y, m, m7, xk;
     bool stab;
     if (!c || !out_q7 || !stable) return SIG_ERR_ARG;
     if (x > SIG_CODE_MAX) { x = SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
@@ -211,46 +294,30 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
     ret = (sig_status)(ret | sig_limit_step_q(&c->limit, x, &y));
     if ((ret & SIG_LIMIT_RESEEDED) != 0) {
         (void)sig_antipulse_reset_q(&c->ap);
-        if (c->motion_band > 0) (void)sig_kalman1_restart_q(&c->kf);
+        if (c->motion_band > 0) restart_kf_q(c);
         c->motion_run = 0u;
     }
     (void)sig_antipulse_step_q(&c->ap, y, &m);
     m7 = codes_to_q7(m);
-    if (c->motion_band > 0 && c->kf.seeded) {
-        if (sig_abs32_sat(sig_sat_sub32(m7, c->kf.x)) > c->motion_band) {
-            if (c->motion_run < 255u) c->motion_run++;
-        } else {
-            c->motion_run = 0u;
-        }
-        if (c->motion_run >= c->motion_count) {
-            (void)sig_antipulse_reset_q(&c->ap);
-            (void)sig_antipulse_step_q(&c->ap, y, &m);
-            m7 = codes_to_q7(m);
-            (void)sig_kalman1_restart_q(&c->kf);
-            c->motion_run = 0u;
-            ret = (sig_status)(ret | SIG_CHAIN_MOTION);
-        }
+    if (c->motion_band > 0 && c->kf.seeded
+        && sig_chain_motion_q(sig_sat_sub32(m7, c->kf.x), c->motion_band, &c->motion_run, c->motion_count)) {
+        (void)sig_antipulse_reset_q(&c->ap);
+        (void)sig_antipulse_step_q(&c->ap, y, &m);
+        m7 = codes_to_q7(m);
+        restart_kf_q(c);
+        ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_q(&c->limit, m);
+    if (c->noise_auto && (c->ap.count < c->ap.n || !c->stable))
+        (void)sig_kalman1_reset_q(&c->kf);      /* settling: the window's trimmed mean is the estimate */
     (void)sig_kalman1_step_q(&c->kf, m7, &xk);
     (void)sig_stable_step_q(&c->st, xk, &stab);
-    if (stab) {
-        if (c->tare_pending) {
-            c->offset = xk;
-            c->tare_pending = false;
-            ret = (sig_status)(ret | SIG_CHAIN_TARED);
-        } else if (c->zero_band > 0) {
-            dz = sig_sat_sub32(xk, c->offset);
-            if (sig_abs32_sat(dz) <= c->zero_band) {
-                if (dz > c->zero_rate) dz = c->zero_rate;
-                if (dz < -c->zero_rate) dz = -c->zero_rate;
-                c->offset = sig_sat_add32(c->offset, dz);
-            }
-        }
-    }
+    if (stab && sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
+        ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = sig_sat_sub32(xk, c->offset);
     c->stable = stab;
     c->has_out = true;
+    if (c->noise_auto) ret = noise_step_q(c, x, ret);
     *out_q7 = c->out;
     *stable = stab;
     return ret;
@@ -259,10 +326,9 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
 sig_status sig_chain_tare_q(sig_chain_q *c)
 {
     if (!c) return SIG_ERR_ARG;
-    if (c->has_out && c->stable) {
-        c->offset = c->kf.x;
+    if (c->has_out && c->stable) {             /* stable now: the tare of a stable sample */
+        sig_chain_take_tare_q(c->kf.x, &c->offset, &c->tare_pending);
         c->out = 0;
-        c->tare_pending = false;
         return SIG_CHAIN_TARED;
     }
     c->tare_pending = true;

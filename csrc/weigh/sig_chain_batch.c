@@ -1,5 +1,6 @@
 /* sig_chain_batch.c - the chain over a buffer of samples; see sig_chain_batch.h. */
 #include "sig_chain_batch.h"
+#include "sig_chain_stages.h"
 
 static bool is_finite(sig_real x)
 {
@@ -50,7 +51,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
     sig_real dc, sum, mx, mn, kx, kp, kk, prev, offset;      /* hot state */
     uint8_t head, held, lrun, srun, mrun;
     int8_t lside, side;
-    sig_real xi, y, d, m, m1, old, e, xk, dz, v, pm, den, pn;
+    sig_real xi, y, d, m, m1, old, e, xk, v, pm, den, pn;
     uint8_t j, nrun;
     /* parameters, in locals: the stores to the window and to out[] could
      * otherwise alias them and force a reload every sample */
@@ -58,6 +59,18 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
     uint8_t wn, lockout_n, motion_count, stable_count;
     if (!c || (n != 0u && (!x || !out || !stable))) return SIG_ERR_ARG;
     if (n == 0u) return SIG_OK;
+    if (c->noise_auto) {                       /* thresholds change every sample: the step path */
+        st = SIG_OK;
+        for (i = 0u; i < n; i++) {
+            st = sig_chain_step_f(c, x[i], &out[i], &s);
+            if (st < 0) {
+                out[i] = x[i] - x[i];
+                s = false;
+            }
+            stable[i] = (uint8_t)s;
+        }
+        return st;
+    }
     a0 = c->limit.a0; inv = c->ap.inv; band = c->motion_band; kq = c->kf.q; kr = c->kf.r;
     step = c->st.step; zband = c->zero_band; zrate = c->zero_rate;
     wn = c->ap.n; lockout_n = c->limit.lockout_n; motion_count = c->motion_count;
@@ -127,22 +140,13 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         else if (held == 2u) m = sum * SIG_REAL(0.5);
         else m = (sum - mx - mn) / (sig_real)(held - 2u);
         /* motion-aware settling */
-        if (band > SIG_REAL(0.0)) {
-            e = m - kx;
-            if (e > band || -e > band) {
-                if (mrun < 255u) mrun++;
-            } else {
-                mrun = 0u;
-            }
-            if (mrun >= motion_count) {
-                HOT_STORE_F();
-                (void)sig_antipulse_reset_f(&c->ap);
-                (void)sig_antipulse_step_f(&c->ap, y, &m1);
-                (void)sig_kalman1_restart_f(&c->kf);
-                c->motion_run = 0u;
-                HOT_LOAD_F();
-                m = m1;
-            }
+        if (band > SIG_REAL(0.0) && sig_chain_motion_f(m - kx, band, &mrun, motion_count)) {
+            HOT_STORE_F();
+            (void)sig_antipulse_reset_f(&c->ap);
+            (void)sig_antipulse_step_f(&c->ap, y, &m1);
+            (void)sig_kalman1_restart_f(&c->kf);
+            HOT_LOAD_F();
+            m = m1;
         }
         dc = m;
         /* Kalman: the gain update only until P reaches its fixed point */
@@ -167,19 +171,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         }
         prev = xk;
         s = srun >= stable_count;
-        if (s) {
-            if (c->tare_pending) {
-                offset = xk;
-                c->tare_pending = false;
-            } else if (zband > SIG_REAL(0.0)) {
-                dz = xk - offset;
-                if (dz <= zband && -dz <= zband) {
-                    if (dz > zrate) dz = zrate;
-                    if (dz < -zrate) dz = -zrate;
-                    offset += dz;
-                }
-            }
-        }
+        if (s) (void)sig_chain_offset_f(xk, &offset, &c->tare_pending, zband, zrate);
         out[i] = xk - offset;
         stable[i] = (uint8_t)s;
     }

@@ -1,5 +1,7 @@
-"""The weighing chain in plain Python: the executable spec of csrc/sig_limit.c,
-sig_antipulse.c, sig_kalman1.c, sig_stable.c and sig_chain.c.
+"""The weighing chain in plain Python: the executable spec of csrc/weigh/
+sig_limit.c, sig_antipulse.c, sig_kalman1.c, sig_stable.c, sig_noise.c and
+sig_chain.c.  Imported by tests only; the library's presets and checks are
+pysig.weigh.presets (tests prove the two equal).
 
 Read next to the paper: limit filter -> anti-pulse filter -> scalar Kalman
 filter -> stability detector.  Every class takes `fixed=False` (floating
@@ -26,6 +28,7 @@ WARN_REJECTED = 4
 LIMIT_RESEEDED = 16
 CHAIN_MOTION = 32
 CHAIN_TARED = 64
+CHAIN_NOISE_FLOOR = 128          # measured noise at its floor (stuck sensor, below a quarter code)
 ERR_NONFINITE = -2
 
 INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
@@ -36,6 +39,7 @@ Q_MAX_Q30 = 1 << 30               # Q/R <= 1
 P0_MAX_Q16 = 1 << 30              # P0/R <= 16384
 
 LB_PER_KG = 1 / 0.45359237
+AUTO = "auto"
 
 # Presets.  Every value is in kg (variances in kg^2); `units_per_kg` is the
 # default scale of the signal the preset expects.
@@ -59,7 +63,7 @@ PRESETS = {
     "paper": dict(A0=2.0, window=12, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False,
                   stable_step=0.01, stable_count=1, lockout_n=0,
                   motion_band=0.0, motion_count=1, zero_band=0.0, zero_rate=0.0,
-                  A0_sigmas=6.0, motion_sigmas=4.0, units_per_kg=1.0),
+                  A0_sigmas=6.0, motion_sigmas=4.0, noise_auto=False, units_per_kg=1.0),
     # The paper's chain and parameters (A0 2 kg included) plus the fixes
     # beyond the paper: the lock-out fix after 5 rejections on one side (3
     # happen by chance when A0 is under 2 sigma of a reading: spurious
@@ -68,7 +72,7 @@ PRESETS = {
     "adaptive": dict(A0=2.0, window=12, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False,
                      stable_step=0.01, stable_count=1, lockout_n=5,
                      motion_band="auto", motion_count=2, zero_band=0.0, zero_rate=0.0,
-                     A0_sigmas=6.0, motion_sigmas=4.0, units_per_kg=1.0),
+                     A0_sigmas=6.0, motion_sigmas=4.0, noise_auto=False, units_per_kg=1.0),
     # The default everywhere.  Tuned on the real HX711 step recording
     # (../shared/data/hx711_steps_10hz: ~1000 counts/lb, ~70 counts noise),
     # so its default scale is HX711 counts at 1000 counts per lb and its R is
@@ -83,12 +87,23 @@ PRESETS = {
     "recommended": dict(A0="auto", window=12, Q=1e-6, R=1e-3, x0=0.0, P0=10.0, seed_first=True,
                         stable_step=0.004, stable_count=5, lockout_n=3,
                         motion_band="auto", motion_count=2, zero_band=0.05, zero_rate=0.0005,
-                        A0_sigmas=6.0, motion_sigmas=4.0, units_per_kg=1000.0 * LB_PER_KG),
+                        A0_sigmas=6.0, motion_sigmas=4.0, noise_auto=False,
+                        units_per_kg=1000.0 * LB_PER_KG),
+    # The default everywhere: no sensor constant, no unit.  The chain
+    # measures the noise sigma on the fly (NoiseEstimator) and A0, the
+    # motion band, the stability step and the zero-tracking band and rate
+    # follow it (noise_thresholds); R "auto".  The Kalman filter is set by
+    # ratios only: Q and P0 here are Q/R and P0/R.  An explicit R (signal
+    # units squared) fixes sigma = sqrt(R) instead of measuring it.
+    "auto": dict(A0=AUTO, window=12, Q=1e-3, R=AUTO, x0=0.0, P0=10.0, seed_first=True,
+                 stable_step=AUTO, stable_count=5, lockout_n=3,
+                 motion_band=AUTO, motion_count=2, zero_band=AUTO, zero_rate=AUTO,
+                 A0_sigmas=6.0, motion_sigmas=4.0, noise_auto=True, units_per_kg=1.0),
 }
 PARAM_NAMES = tuple(k for k in PRESETS["paper"] if k != "units_per_kg")
 _COUNTS = ("window", "stable_count", "lockout_n", "motion_count")
-AUTO = "auto"
 _DERIVED = ("A0", "motion_band")         # may be AUTO: from R (see above)
+_NOISE_DERIVED = ("A0", "motion_band", "stable_step", "zero_band", "zero_rate")   # auto preset
 
 
 def _check(cond, name, value, what):
@@ -124,6 +139,8 @@ def chain_params(preset="recommended", units_per_kg=None, **overrides):
         _check(float(v) == int(v), k, v, "must be an integer")
         p[k] = int(v)
     p["seed_first"] = bool(p["seed_first"])
+    if PRESETS[preset]["noise_auto"]:
+        return _noise_params(p, s)
     auto = {k for k in _DERIVED if isinstance(p[k], str)}
     for k in auto:
         _check(p[k] == AUTO, k, p[k], f"must be a number (kg) or {AUTO!r}")
@@ -159,6 +176,37 @@ def chain_params(preset="recommended", units_per_kg=None, **overrides):
     return p
 
 
+def _noise_params(p, s):
+    """chain_params() of the auto preset: thresholds from the noise sigma,
+    measured on the fly (R auto) or sqrt(R) for an R given in kg^2."""
+    for k in _NOISE_DERIVED:
+        if p[k] != AUTO:
+            _finite(k, p[k])
+        _check(p[k] == AUTO, k, p[k], "follows the noise in the auto preset: leave it 'auto' "
+               "(or choose another preset)")
+    for k in ("Q", "P0", "x0"):
+        _finite(k, p[k])
+        _check(k == "x0" or p[k] >= 0, k, p[k], "must be >= 0")
+    _check(3 <= p["window"] <= WINDOW_MAX, "window", p["window"], f"must be in 3..{WINDOW_MAX}")
+    for k, lo in (("stable_count", 1), ("motion_count", 1), ("lockout_n", 0)):
+        _check(lo <= p[k] <= 255, k, p[k], f"must be in {lo}..255")
+    p["x0"] = float(p["x0"]) * s
+    if isinstance(p["R"], str):
+        _check(p["R"] == AUTO, "R", p["R"], f"must be a number (kg^2) or {AUTO!r}")
+        r, p["noise_auto"] = 1.0, True
+    else:
+        _finite("R", p["R"])
+        _check(p["R"] > 0, "R", p["R"], "must be > 0")
+        r, p["noise_auto"] = float(p["R"]) * s * s, False
+        _check(math.isfinite(r) and r > 0, "R", p["R"], f"out of range in signal units (units_per_kg={s!r})")
+    p["Q"], p["P0"], p["R"] = float(p["Q"]) * r, float(p["P0"]) * r, r
+    sigma = math.sqrt(r) if not p["noise_auto"] else NOISE_FLOOR_ABS
+    (p["A0"], p["motion_band"], p["stable_step"], p["zero_band"],
+     p["zero_rate"]) = noise_thresholds(sigma)
+    p["A0_sigmas"], p["motion_sigmas"] = float(p["A0_sigmas"]), float(p["motion_sigmas"])
+    return p
+
+
 def _round_int32(name, value):
     _check(math.isfinite(value), name, value, "out of the int32 range in fixed point")
     v = round(value)
@@ -179,14 +227,18 @@ def kalman_fixed_params(Q, R, P0, x0):
 def chain_fixed_params(p):
     """The sig_chain_params_q fields from chain_params() output."""
     q, p0, x0 = kalman_fixed_params(p["Q"], p["R"], p["P0"], p["x0"])
+    common = dict(window=p["window"], q_q30=q, p0_q16=p0, x0_q7=x0, seed_first=p["seed_first"],
+                  stable_count=p["stable_count"], lockout_n=p["lockout_n"],
+                  motion_count=p["motion_count"], noise_auto=bool(p["noise_auto"]))
+    if p["noise_auto"]:       # the thresholds follow the measured noise, from its floor
+        a0, band, step, zband, zrate = noise_thresholds(NOISE_FLOOR_Q7, fixed=True)
+        return dict(common, a0=a0, stable_step_q7=step, motion_band_q7=band,
+                    zero_band_q7=zband, zero_rate_q7=zrate)
     a0 = _round_int32("A0", p["A0"])
     _check(a0 > 0, "A0", p["A0"], "rounds to 0 codes in fixed point")
-    return dict(a0=a0, window=p["window"], q_q30=q, p0_q16=p0, x0_q7=x0,
-                seed_first=p["seed_first"],
+    return dict(common, a0=a0,
                 stable_step_q7=_round_int32("stable_step", p["stable_step"] * 128),
-                stable_count=p["stable_count"], lockout_n=p["lockout_n"],
                 motion_band_q7=_round_int32("motion_band", p["motion_band"] * 128),
-                motion_count=p["motion_count"],
                 zero_band_q7=_round_int32("zero_band", p["zero_band"] * 128),
                 zero_rate_q7=_round_int32("zero_rate", p["zero_rate"] * 128))
 
@@ -503,12 +555,116 @@ class StabilityDetector:
         return np.array([self.step(v) for v in np.asarray(x, dtype=float)], dtype=bool)
 
 
+
+# ---- the noise estimator (csrc/sig_noise.c) ---------------------------------
+NOISE_FLOOR_Q7 = 32               # a quarter of one code, Q24.7
+NOISE_MAX_Q7 = 1 << 27            # 2^20 codes: 6 x this still fits int32
+NOISE_FLOOR_REL = 2.0 ** -24      # float floor: this fraction of |sample| ...
+NOISE_FLOOR_ABS = 1e-30           # ... and never below this
+NOISE_MAX_F = 1e300               # host double (the MCU float build caps at 1e36)
+NOISE_WARMUP = 24                 # updates before the estimator may be frozen
+
+
+class NoiseEstimator:
+    """Per-sample noise sigma from |x_k - x_{k-1}|: a quantile tracker that
+    moves up by sigma/2^s when |d| > sigma and down by (1 - 1/8) sigma/2^s
+    when |d| < sigma (s = 2, 3, 4, then 5 after 8, 24 and 56 updates).  For
+    Gaussian noise it settles where P(|d| > sigma) = 0.48, i.e. sigma ~ the
+    noise's standard deviation; a glitch or a step moves it by one step at
+    most.  Floor: a quarter code (fixed, Q24.7); float: a quarter of the
+    smallest non-zero |d| seen (one code of a quantised signal), 2^-24 |x|
+    and 1e-30, the largest of the three."""
+
+    def __init__(self, fixed=False):
+        self.fixed = bool(fixed)
+        self.reset()
+
+    def reset(self):
+        self.prev, self.has_prev, self.count = 0, False, 0
+        self.res = 0.0                  # float: smallest non-zero |d| seen (a code), 0 = none
+        self.sigma = NOISE_FLOOR_Q7 if self.fixed else NOISE_FLOOR_ABS
+
+    def floor(self, x):
+        if self.fixed:
+            return NOISE_FLOOR_Q7
+        return max(abs(x) * NOISE_FLOOR_REL, self.res * 0.25, NOISE_FLOOR_ABS)
+
+    def _step(self, x, update=True):
+        """x: a clamped code (fixed) or a float; non-finite: nothing changes."""
+        if not self.fixed and not math.isfinite(x):
+            return
+        if not self.fixed:
+            dd = abs(x - self.prev)
+            if self.has_prev and 0 < dd < NOISE_MAX_F and (dd < self.res or self.res == 0):
+                self.res = dd
+        if self.has_prev and update:
+            if self.fixed:
+                d = abs(x - self.prev)
+                d = INT32_MAX if d > (INT32_MAX >> 7) else d << 7
+            else:
+                d = abs(x - self.prev)
+            if self.count == 0:
+                self.sigma = min(d, NOISE_MAX_Q7 if self.fixed else NOISE_MAX_F)
+            else:
+                sh = 2 if self.count < 8 else 3 if self.count < NOISE_WARMUP else 4 if self.count < 56 else 5
+                if self.fixed:
+                    up = self.sigma >> sh
+                    down = up - (up >> 3)
+                    if d > self.sigma:
+                        self.sigma = min(self.sigma + up, NOISE_MAX_Q7)
+                    elif d < self.sigma:
+                        self.sigma -= down
+                else:
+                    up = self.sigma * 2.0 ** -sh
+                    down = up - up * 0.125
+                    if d > self.sigma:
+                        self.sigma = min(self.sigma + up, NOISE_MAX_F)
+                    elif d < self.sigma:
+                        self.sigma = self.sigma - down
+            self.count = min(self.count + 1, 255)
+        self.sigma = max(self.sigma, self.floor(x))
+        self.prev, self.has_prev = x, True
+
+    def process(self, x, update=None):
+        """Samples (optionally per-sample update flags) -> sigma after each."""
+        x = np.asarray(x, dtype=float)
+        up = np.ones(x.size, dtype=bool) if update is None else np.asarray(update, dtype=bool)
+        out = np.empty(x.size)
+        for i, v in enumerate(x):
+            self._step(clamp_code(code_of(v)) if self.fixed else float(v), bool(up[i]))
+            out[i] = self.value
+        return out
+
+    @property
+    def at_floor(self):
+        return self.sigma <= self.floor(self.prev)
+
+    @property
+    def value(self):
+        return self.sigma / 128 if self.fixed else self.sigma
+
+
+# Thresholds from the measured noise sigma (the "auto" preset): the C core
+# computes them from sigma with these factors (fixed: shifts and adds).
+NOISE_FROZEN_MAX = 64             # skip count from which motion is taken for noise
+
+
+def noise_thresholds(sigma, fixed=False):
+    """(a0, motion_band, stable_step, zero_band, zero_rate) from sigma (Q24.7
+    int for the fixed form, a0 then in codes; float otherwise)."""
+    if fixed:
+        a0 = max(((sigma << 2) + (sigma << 1) + 64) >> 7, 1)
+        return a0, sigma + (sigma >> 1), sigma >> 2, sigma << 1, sigma >> 4
+    return 6.0 * sigma, 1.5 * sigma, 0.25 * sigma, 2.0 * sigma, 0.0625 * sigma
+
 # ---- the chain ---------------------------------------------------------------
 class Chain:
     """limit -> anti-pulse -> Kalman -> stability, with the lock-out fix,
-    motion-aware settling, tare and zero tracking (csrc/sig_chain.c)."""
+    motion-aware settling, tare and zero tracking, and in the auto preset
+    (the default) the thresholds following the noise measured on the fly
+    (csrc/weigh/sig_chain.c)."""
 
-    def __init__(self, preset="recommended", fixed=False, units_per_kg=None, **overrides):
+    def __init__(self, preset="auto", fixed=False, units_per_kg=None, **overrides):
         self.params = chain_params(preset, units_per_kg, **overrides)
         self.fixed = bool(fixed)
         p = self.params
@@ -525,13 +681,59 @@ class Chain:
         self.kf = Kalman1(p["Q"], p["R"], p["x0"], p["P0"], p["seed_first"], fixed=self.fixed)
         self.st = StabilityDetector(p["stable_step"], p["stable_count"], fixed=self.fixed)
         self.motion_count = p["motion_count"]
+        self.noise_auto = bool(p["noise_auto"])
+        self.noise = NoiseEstimator(self.fixed)
         self.reset()
 
     def reset(self):
-        for stage in (self.limit, self.ap, self.kf, self.st):
+        for stage in (self.limit, self.ap, self.kf, self.st, self.noise):
             stage.reset()
         self.offset_raw, self.out_raw, self.motion_run = 0, 0, 0
+        self.holdoff, self.frozen, self.rejected_prev = 0, 0, False
         self.tare_pending, self.stable, self.has_out, self.status = False, False, False, OK
+        self._set_thresholds()
+
+    def _set_thresholds(self):
+        """The thresholds that follow the measured noise (auto mode only)."""
+        if self.noise_auto:
+            (self.limit.a0, self.motion_band, self.st.step_value, self.zero_band,
+             self.zero_rate) = noise_thresholds(self.noise.sigma, self.fixed)
+            if self.noise.count == 0:           # no difference seen yet: take every sample
+                self.limit.a0 = 2 * CODE_MAX if self.fixed else 6.0 * NOISE_MAX_F
+
+    def _restart_kf(self):
+        """The load moved: P back to P0; in auto mode the estimate also starts
+        again from the new samples (seed_first), keeping nothing of the old load."""
+        if self.noise_auto:
+            self.kf.reset()
+        else:
+            self.kf.restart()
+
+    def _noise_step(self, x, ret):
+        """After the stages: the estimator sees the sample unless it or the one
+        before was rejected as an impulse or the load is moving (a motion
+        restart or re-seed, then `window` samples of hold-off, or a motion run
+        under way).  A count goes up on each skipped sample and down on each
+        other one; from NOISE_FROZEN_MAX on, so much motion is noise and the
+        estimator sees every sample, with its warm-up steps again."""
+        event = (ret & (CHAIN_MOTION | LIMIT_RESEEDED)) != 0
+        rejected = (ret & WARN_REJECTED) != 0
+        if event:
+            self.holdoff = self.ap.n
+        elif self.holdoff:
+            self.holdoff -= 1
+        quiet = not (event or rejected or self.rejected_prev) and self.holdoff == 0 and self.motion_run == 0
+        self.rejected_prev = rejected
+        if quiet:
+            self.frozen, update = max(self.frozen - 1, 0), True
+        else:
+            self.frozen = min(self.frozen + 1, 2 * NOISE_FROZEN_MAX)
+            if self.frozen == NOISE_FROZEN_MAX:
+                self.noise.count = min(self.noise.count, 8)     # the noise changed: large steps again
+            update = self.frozen >= NOISE_FROZEN_MAX or self.noise.count < NOISE_WARMUP
+        self.noise._step(x, update)
+        self._set_thresholds()
+        return ret | CHAIN_NOISE_FLOOR if self.noise.at_floor else ret
 
     def _kx(self):
         return self.kf.xq if self.fixed else self.kf._x
@@ -548,7 +750,7 @@ class Chain:
         if ret & LIMIT_RESEEDED:
             self.ap.reset()
             if self.motion_band > 0:
-                self.kf.restart()
+                self._restart_kf()
             self.motion_run = 0
         m, _ = self.ap._step(y)
         m_k = m * 128 if self.fixed else m
@@ -562,10 +764,12 @@ class Chain:
                 self.ap.reset()
                 m, _ = self.ap._step(y)
                 m_k = m * 128 if self.fixed else m
-                self.kf.restart()
+                self._restart_kf()
                 self.motion_run = 0
                 ret |= CHAIN_MOTION
         self.limit.set_ref(m)
+        if self.noise_auto and (self.ap.count < self.ap.n or not self.stable):
+            self.kf.reset()             # settling: the window's trimmed mean is the estimate
         xk = self.kf._step(m_k)
         stab = self.st._step(xk)
         if stab:
@@ -579,6 +783,8 @@ class Chain:
                     self.offset_raw = sat32(self.offset_raw + dz) if self.fixed else self.offset_raw + dz
         self.out_raw = sat32(xk - self.offset_raw) if self.fixed else xk - self.offset_raw
         self.stable, self.has_out = stab, True
+        if self.noise_auto:
+            ret = self._noise_step(x, ret)
         return self.out_raw, stab, ret
 
     def step(self, x):
@@ -635,3 +841,10 @@ class Chain:
     @property
     def Dc(self):
         return float(self.limit.Dc)
+
+    @property
+    def sigma(self):
+        """The noise sigma the thresholds follow: measured (auto mode) or sqrt(R)."""
+        if self.noise_auto:
+            return float(self.noise.value)
+        return math.sqrt(self.params["R"])

@@ -73,6 +73,22 @@ cdef extern from "sig_stable.h":
     sig_status sig_stable_reset_q(sig_stable_q *s) nogil
     sig_status sig_stable_step_q(sig_stable_q *s, int32_t x_q7, c_bool *stable) nogil
 
+cdef extern from "sig_noise.h":
+    ctypedef struct sig_noise_f:
+        sig_real prev, sigma, res
+        uint8_t count
+        c_bool has_prev
+    ctypedef struct sig_noise_q:
+        int32_t prev, sigma
+        uint8_t count
+        c_bool has_prev
+    sig_status sig_noise_reset_f(sig_noise_f *s) nogil
+    sig_status sig_noise_step_f(sig_noise_f *s, sig_real x, c_bool update) nogil
+    c_bool sig_noise_at_floor_f(const sig_noise_f *s) nogil
+    sig_status sig_noise_reset_q(sig_noise_q *s) nogil
+    sig_status sig_noise_step_q(sig_noise_q *s, int32_t x, c_bool update) nogil
+    c_bool sig_noise_at_floor_q(const sig_noise_q *s) nogil
+
 cdef extern from "sig_chain.h":
     ctypedef struct sig_chain_params_f:
         sig_real a0
@@ -84,6 +100,7 @@ cdef extern from "sig_chain.h":
         sig_real motion_band
         uint8_t motion_count
         sig_real zero_band, zero_rate
+        c_bool noise_auto
     ctypedef struct sig_chain_params_q:
         int32_t a0
         uint8_t window
@@ -95,22 +112,25 @@ cdef extern from "sig_chain.h":
         int32_t motion_band_q7
         uint8_t motion_count
         int32_t zero_band_q7, zero_rate_q7
+        c_bool noise_auto
     ctypedef struct sig_chain_f:
         sig_limit_f limit
         sig_antipulse_f ap
         sig_kalman1_f kf
         sig_stable_f st
-        sig_real offset, out
+        sig_real offset, out, motion_band, zero_band, zero_rate
         uint8_t motion_run
-        c_bool tare_pending, stable, has_out
+        c_bool tare_pending, stable, has_out, noise_auto
+        sig_noise_f noise
     ctypedef struct sig_chain_q:
         sig_limit_q limit
         sig_antipulse_q ap
         sig_kalman1_q kf
         sig_stable_q st
-        int32_t offset, out
+        int32_t offset, out, motion_band, zero_band, zero_rate
         uint8_t motion_run
-        c_bool tare_pending, stable, has_out
+        c_bool tare_pending, stable, has_out, noise_auto
+        sig_noise_q noise
     sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p) nogil
     sig_status sig_chain_reset_f(sig_chain_f *c) nogil
     sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, c_bool *stable) nogil

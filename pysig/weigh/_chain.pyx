@@ -8,19 +8,20 @@ carried across calls, so a signal processed in pieces gives the same result
 as in one call."""
 import numpy as np
 cimport numpy as cnp
-from libc.math cimport NAN
+from libc.math cimport NAN, sqrt
 
 from ..errors import NonFiniteError, RangeError
-from ..reference import chain as _ref
+from . import presets as _p
 
 cnp.import_array()
 
-OK = _ref.OK
-WARN_CLAMPED = _ref.WARN_CLAMPED
-WARN_REJECTED = _ref.WARN_REJECTED
-LIMIT_RESEEDED = _ref.LIMIT_RESEEDED
-CHAIN_MOTION = _ref.CHAIN_MOTION
-CHAIN_TARED = _ref.CHAIN_TARED
+OK = _p.OK
+WARN_CLAMPED = _p.WARN_CLAMPED
+WARN_REJECTED = _p.WARN_REJECTED
+LIMIT_RESEEDED = _p.LIMIT_RESEEDED
+CHAIN_MOTION = _p.CHAIN_MOTION
+CHAIN_TARED = _p.CHAIN_TARED
+CHAIN_NOISE_FLOOR = _p.CHAIN_NOISE_FLOOR
 
 
 cdef _as_float(x):
@@ -57,13 +58,13 @@ cdef class LimitFilter:
     cdef readonly int status
 
     def __init__(self, a0, lockout_n=0, fixed=False):
-        ref = _ref.LimitFilter(a0, lockout_n, fixed)      # validates, names the bad parameter
+        a, n = _p.limit_params(a0, lockout_n, fixed)     # validates, names the bad parameter
         self.fixed = fixed
         self.status = 0
         if fixed:
-            _check_init(sig_limit_init_q(&self.q, ref.a0, ref.lockout_n), "LimitFilter")
+            _check_init(sig_limit_init_q(&self.q, a, n), "LimitFilter")
         else:
-            _check_init(sig_limit_init_f(&self.f, ref.a0, ref.lockout_n), "LimitFilter")
+            _check_init(sig_limit_init_f(&self.f, a, n), "LimitFilter")
 
     def reset(self):
         sig_limit_reset_q(&self.q) if self.fixed else sig_limit_reset_f(&self.f)
@@ -124,13 +125,13 @@ cdef class AntiPulse:
     cdef readonly int status
 
     def __init__(self, window=12, fixed=False):
-        ref = _ref.AntiPulse(window, fixed)
+        n = _p.window_param(window)
         self.fixed = fixed
         self.status = 0
         if fixed:
-            _check_init(sig_antipulse_init_q(&self.q, ref.n), "AntiPulse")
+            _check_init(sig_antipulse_init_q(&self.q, n), "AntiPulse")
         else:
-            _check_init(sig_antipulse_init_f(&self.f, ref.n), "AntiPulse")
+            _check_init(sig_antipulse_init_f(&self.f, n), "AntiPulse")
 
     def reset(self):
         sig_antipulse_reset_q(&self.q) if self.fixed else sig_antipulse_reset_f(&self.f)
@@ -185,13 +186,14 @@ cdef class Kalman1:
     cdef readonly double R
 
     def __init__(self, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False, fixed=False):
-        ref = _ref.Kalman1(Q, R, x0, P0, seed_first, fixed)
+        Q, R, x0, P0 = _p.kalman_params(Q, R, x0, P0)
         self.fixed = fixed
-        self.R = ref.R
+        self.R = R
         if fixed:
-            _check_init(sig_kalman1_init_q(&self.q, ref.q, ref.p0, ref.x0_q7, ref.seed_first), "Kalman1")
+            q, p0, x0_q7 = _p.kalman_fixed_params(Q, R, P0, x0)
+            _check_init(sig_kalman1_init_q(&self.q, q, p0, x0_q7, bool(seed_first)), "Kalman1")
         else:
-            _check_init(sig_kalman1_init_f(&self.f, ref.Q, ref.R, ref.P0, ref.x0, ref.seed_first), "Kalman1")
+            _check_init(sig_kalman1_init_f(&self.f, Q, R, P0, x0, bool(seed_first)), "Kalman1")
 
     def reset(self):
         sig_kalman1_reset_q(&self.q) if self.fixed else sig_kalman1_reset_f(&self.f)
@@ -211,7 +213,7 @@ cdef class Kalman1:
         cdef sig_real y
         cdef int32_t yq
         if self.fixed:
-            zq = np.clip(_codes(z), -_ref.CODE_MAX, _ref.CODE_MAX).astype(np.int32) * np.int32(128)
+            zq = np.clip(_codes(z), -_p.CODE_MAX, _p.CODE_MAX).astype(np.int32) * np.int32(128)
             n = zq.shape[0]
         else:
             zf = _as_float(z)
@@ -262,12 +264,12 @@ cdef class StabilityDetector:
     cdef readonly bint fixed
 
     def __init__(self, step=0.01, count=1, fixed=False):
-        ref = _ref.StabilityDetector(step, count, fixed)
+        step_value, n = _p.stable_params(step, count, fixed)
         self.fixed = fixed
         if fixed:
-            _check_init(sig_stable_init_q(&self.q, ref.step_value, ref.count), "StabilityDetector")
+            _check_init(sig_stable_init_q(&self.q, step_value, n), "StabilityDetector")
         else:
-            _check_init(sig_stable_init_f(&self.f, ref.step_value, ref.count), "StabilityDetector")
+            _check_init(sig_stable_init_f(&self.f, step_value, n), "StabilityDetector")
 
     def reset(self):
         sig_stable_reset_q(&self.q) if self.fixed else sig_stable_reset_f(&self.f)
@@ -305,19 +307,107 @@ cdef class StabilityDetector:
         return self.q.run if self.fixed else self.f.run
 
 
+# ---- the noise estimator ------------------------------------------------------
+cdef class NoiseEstimator:
+    """The per-sample noise sigma measured on the fly (csrc/include/sig_noise.h):
+    a quantile tracker on |x_k - x_{k-1}| that glitches and steps move by one
+    small step only.  Fixed: samples are codes, sigma in codes (Q24.7 inside).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.random.default_rng(1).normal(0.0, 3.0, 2000)
+    >>> s = NoiseEstimator().process(x)
+    >>> bool(2.4 < np.median(s[200:]) < 3.6)
+    True
+    """
+    cdef sig_noise_f f
+    cdef sig_noise_q q
+    cdef readonly bint fixed
+
+    def __init__(self, fixed=False):
+        self.fixed = fixed
+        self.reset()
+
+    def reset(self):
+        sig_noise_reset_q(&self.q) if self.fixed else sig_noise_reset_f(&self.f)
+
+    def process(self, x, update=None):
+        """Samples (and optionally a per-sample update flag) -> sigma after each."""
+        cdef cnp.ndarray[cnp.float64_t] out
+        cdef cnp.ndarray[cnp.float64_t] xf
+        cdef cnp.ndarray[cnp.int32_t] xq
+        cdef cnp.ndarray[cnp.uint8_t] up
+        cdef Py_ssize_t i, n
+        if self.fixed:
+            xq = np.clip(_codes(x), -_p.CODE_MAX, _p.CODE_MAX).astype(np.int32)
+            n = xq.shape[0]
+        else:
+            xf = _as_float(x)
+            n = xf.shape[0]
+        up = (np.ones(n, dtype=np.uint8) if update is None
+              else np.ascontiguousarray(update, dtype=bool).ravel().view(np.uint8))
+        if up.shape[0] != n:
+            raise RangeError(f"update has {up.shape[0]} flags for {n} samples")
+        out = np.empty(n)
+        with nogil:
+            for i in range(n):
+                if self.fixed:
+                    sig_noise_step_q(&self.q, xq[i], up[i] != 0)
+                    out[i] = self.q.sigma / 128.0
+                else:
+                    sig_noise_step_f(&self.f, xf[i], up[i] != 0)
+                    out[i] = self.f.sigma
+        return out
+
+    @property
+    def sigma(self):
+        return self.q.sigma / 128.0 if self.fixed else self.f.sigma
+
+    @property
+    def at_floor(self):
+        return bool(sig_noise_at_floor_q(&self.q) if self.fixed else sig_noise_at_floor_f(&self.f))
+
+    @property
+    def count(self):
+        return self.q.count if self.fixed else self.f.count
+
+
 # ---- the chain ---------------------------------------------------------------
 cdef class Chain:
-    """limit -> anti-pulse -> Kalman -> stability (csrc/sig_chain.c).
+    """limit -> anti-pulse -> Kalman -> stability (csrc/weigh/sig_chain.c).
 
-    Chain(preset="recommended", fixed=False, units_per_kg=None, **overrides):
-    preset "paper" reproduces the paper; "recommended" (default) adds the
-    lock-out fix, motion-aware settling and zero tracking.  Parameters
-    (A0, window, Q, R, x0, P0, seed_first, stable_step, stable_count,
-    lockout_n, motion_band, motion_count, zero_band, zero_rate) are in kg;
-    units_per_kg converts them to signal units (see pysig.reference.chain).
-    A0 and motion_band "auto" (presets recommended, adaptive) follow from R,
-    the sensor's reading variance: A0_sigmas * sqrt(R), motion_sigmas *
-    sqrt(R / (window - 2))."""
+    Parameters
+    ----------
+    preset : str
+        "auto" (default): no sensor constant and no unit; the noise sigma is
+        measured on the fly and A0, the motion band, the stability step and
+        the zero-tracking band and rate follow it (pysig.weigh.presets).
+        "paper" reproduces the weighing paper; "recommended" and "adaptive"
+        derive their thresholds from a fixed R.
+    fixed : bool
+        Run the firmware's fixed-point form (samples rounded to codes).
+    units_per_kg : float, optional
+        Scale of the kg parameters into signal units.
+    **overrides
+        Parameters (A0, window, Q, R, x0, P0, seed_first, stable_step,
+        stable_count, lockout_n, motion_band, motion_count, zero_band,
+        zero_rate), in kg.  With the auto preset an explicit R fixes
+        sigma = sqrt(R) instead of measuring it.
+
+    Raises
+    ------
+    RangeError
+        A parameter out of its range, named.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.r_[np.zeros(50), np.full(50, 1000.0)] + np.random.default_rng(0).normal(0, 5, 100)
+    >>> out, stable = Chain().process(x)
+    >>> bool(abs(out[-1] - 1000.0) < 5.0)
+    True
+    """
     cdef sig_chain_f f
     cdef sig_chain_q q
     cdef readonly bint fixed
@@ -325,22 +415,22 @@ cdef class Chain:
     cdef readonly int status
     cdef double R
 
-    def __init__(self, preset="recommended", fixed=False, units_per_kg=None, **overrides):
+    def __init__(self, preset="auto", fixed=False, units_per_kg=None, **overrides):
         cdef sig_chain_params_f pf
         cdef sig_chain_params_q pq
-        p = _ref.chain_params(preset, units_per_kg, **overrides)
+        p = _p.chain_params(preset, units_per_kg, **overrides)
         self.params = p
         self.fixed = fixed
         self.status = 0
         self.R = p["R"]
         if fixed:
-            fp = _ref.chain_fixed_params(p)
+            fp = _p.chain_fixed_params(p)
             pq.a0 = fp["a0"]; pq.window = fp["window"]; pq.q_q30 = fp["q_q30"]
             pq.p0_q16 = fp["p0_q16"]; pq.x0_q7 = fp["x0_q7"]; pq.seed_first = fp["seed_first"]
             pq.stable_step_q7 = fp["stable_step_q7"]; pq.stable_count = fp["stable_count"]
             pq.lockout_n = fp["lockout_n"]; pq.motion_band_q7 = fp["motion_band_q7"]
             pq.motion_count = fp["motion_count"]; pq.zero_band_q7 = fp["zero_band_q7"]
-            pq.zero_rate_q7 = fp["zero_rate_q7"]
+            pq.zero_rate_q7 = fp["zero_rate_q7"]; pq.noise_auto = fp["noise_auto"]
             _check_init(sig_chain_init_q(&self.q, &pq), "Chain")
         else:
             pf.a0 = p["A0"]; pf.window = p["window"]; pf.q = p["Q"]; pf.r = p["R"]
@@ -348,7 +438,7 @@ cdef class Chain:
             pf.stable_step = p["stable_step"]; pf.stable_count = p["stable_count"]
             pf.lockout_n = p["lockout_n"]; pf.motion_band = p["motion_band"]
             pf.motion_count = p["motion_count"]; pf.zero_band = p["zero_band"]
-            pf.zero_rate = p["zero_rate"]
+            pf.zero_rate = p["zero_rate"]; pf.noise_auto = p["noise_auto"]
             _check_init(sig_chain_init_f(&self.f, &pf), "Chain")
 
     def reset(self):
@@ -424,9 +514,9 @@ cdef class Chain:
         return st == CHAIN_TARED
 
     def set_offset(self, offset):
-        _ref._finite("offset", offset)
+        _p._finite("offset", offset)
         if self.fixed:
-            sig_chain_set_offset_q(&self.q, _ref._round_int32("offset", offset * 128))
+            sig_chain_set_offset_q(&self.q, _p.offset_q7(offset))
         else:
             sig_chain_set_offset_f(&self.f, offset)
 
@@ -465,6 +555,23 @@ cdef class Chain:
     @property
     def Dc(self):
         return float(self.q.limit.dc if self.fixed else self.f.limit.dc)
+
+    @property
+    def sigma(self):
+        """The noise sigma the thresholds follow, in signal units: measured
+        on the fly (auto preset) or sqrt(R)."""
+        if self.fixed and self.q.noise_auto:
+            return self.q.noise.sigma / 128.0
+        if not self.fixed and self.f.noise_auto:
+            return self.f.noise.sigma
+        return sqrt(self.R)
+
+    @property
+    def noise_at_floor(self):
+        """True while the measured noise sits at its floor (stuck sensor)."""
+        if self.fixed:
+            return bool(self.q.noise_auto and sig_noise_at_floor_q(&self.q.noise))
+        return bool(self.f.noise_auto and sig_noise_at_floor_f(&self.f.noise))
 
     @property
     def window_count(self):

@@ -13,7 +13,9 @@ paper) and runs each configuration:
   paper_chain  Chain(preset="paper"): the paper's published parameters
   kalman       the paper's plain Kalman filter (Q 1e-7, R 0.05, x0 1, P0 10)
   recommended  Chain(preset="recommended"): lock-out fix, motion-aware
-               settling, zero tracking
+               settling, zero tracking, thresholds from a fixed R
+  auto         Chain(), the default: the same with every threshold
+               following the noise measured on the fly
 
 and measures, per configuration (definitions in METRICS):
 glitches_passed, plateaus_missed, settle_s_max, plateau_err_lb_max,
@@ -37,7 +39,7 @@ RATE_HZ = 10.0
 STEP_LB = 10.0
 LOADED = ("lc1", "lc2")
 UNLOADED = ("lc3", "lc4", "lc5", "lc6")
-CONFIGS = ("raw", "paper_chain", "kalman", "recommended")
+CONFIGS = ("raw", "paper_chain", "kalman", "recommended", "auto")
 SETTLE_BAND_LB = 0.05
 MISSED_BAND_LB = 1.0
 GLITCH_BAND_LB = 0.05
@@ -97,8 +99,8 @@ def default_backend():
 def run_config(config, kg, backend=None, counts_per_kg=None):
     """One configuration over a kg signal -> (output kg, stable flags or None).
 
-    "recommended_fixed" runs the firmware's fixed-point chain on integer
-    codes, rint(kg * counts_per_kg): the ADC codes minus the calibrated zero,
+    "recommended_fixed" and "auto_fixed" run the firmware's fixed-point
+    chain on integer codes, rint(kg * counts_per_kg): the ADC codes minus the calibrated zero,
     as firmware that subtracts the stored offset first would see them."""
     backend = backend or default_backend()
     if config == "raw":
@@ -109,6 +111,12 @@ def run_config(config, kg, backend=None, counts_per_kg=None):
         return backend.Kalman1(Q=1e-7, R=0.05, x0=1.0, P0=10.0).process(kg), None
     if config == "recommended":
         return backend.Chain(preset="recommended", units_per_kg=1.0).process(kg)
+    if config == "auto":
+        return backend.Chain(preset="auto").process(kg)
+    if config == "auto_fixed":
+        codes = np.rint(np.asarray(kg) * counts_per_kg)
+        out, stable = backend.Chain(preset="auto", fixed=True).process(codes)
+        return out / counts_per_kg, stable
     if config == "recommended_fixed":
         codes = np.rint(np.asarray(kg) * counts_per_kg)
         out, stable = backend.Chain(preset="recommended", fixed=True,
@@ -237,8 +245,8 @@ def analyse_zero(t, counts, lb_per_count, configs=CONFIGS, backend=None):
 
 def plot_channel(path, t, result, title, configs=CONFIGS, nominal=True):
     """PNG: raw, each configuration, nominal levels, stability flags; for a
-    loaded channel also a close-up of the step the recommended chain takes
-    longest to settle on, with the +-SETTLE_BAND_LB band."""
+    loaded channel also a close-up of the step the default (auto) chain
+    takes longest to settle on, with the +-SETTLE_BAND_LB band."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -246,13 +254,14 @@ def plot_channel(path, t, result, title, configs=CONFIGS, nominal=True):
     t = np.asarray(t, dtype=float)
     lb = result["lb"]
     glitches = result["glitches"]
-    zoom = nominal and "plateaus" in result and "recommended" in result["rows"]
+    zoom = nominal and "plateaus" in result and "auto" in result["rows"]
     fig = plt.figure(figsize=(13 if zoom else 11, 6))
     grid = fig.add_gridspec(2, 2 if zoom else 1, height_ratios=[5, 1],
                             width_ratios=[3, 1] if zoom else None)
     ax = fig.add_subplot(grid[0, 0])
     axs = fig.add_subplot(grid[1, 0], sharex=ax)
-    colors = {"raw": "0.7", "paper_chain": "tab:red", "kalman": "tab:orange", "recommended": "tab:blue"}
+    colors = {"raw": "0.7", "paper_chain": "tab:red", "kalman": "tab:orange", "recommended": "tab:purple",
+              "auto": "tab:blue", "recommended_fixed": "tab:pink", "auto_fixed": "tab:cyan"}
     ok = np.ones(lb.size, dtype=bool)
     ok[glitches] = False
     lo, hi = np.min(lb[ok]), np.max(lb[ok])
@@ -291,14 +300,14 @@ def plot_channel(path, t, result, title, configs=CONFIGS, nominal=True):
 
 
 def _plot_zoom(ax, t, result, colors):
-    settle = result["rows"]["recommended"]["settle_s"]
+    settle = result["rows"]["auto"]["settle_s"]
     known = [(s, k) for k, s in enumerate(settle) if s is not None]
     k = (max(known)[1] if known else 0) + 1          # plateau index after the slowest step
     plateaus, level = result["plateaus"], result["levels_lb"][k]
     a = plateaus[k - 1].stop - int(2 * RATE_HZ)
     b = min(plateaus[k].stop, plateaus[k - 1].stop + int(12 * RATE_HZ))
     sl = slice(max(a, 0), b)
-    for config in ("raw", "paper_chain", "recommended"):
+    for config in ("raw", "paper_chain", "recommended", "auto"):
         if config in result["outputs"]:
             ax.plot(t[sl], result["outputs"][config][0][sl], color=colors[config],
                     lw=0.8 if config == "raw" else 1.4)
@@ -308,7 +317,7 @@ def _plot_zoom(ax, t, result, colors):
     ax.axvline(t0, color="k", lw=0.8, ls=":", label="previous plateau ends")
     if settle[k - 1] is not None:
         ax.axvline(t0 + settle[k - 1], color="tab:blue", lw=0.8, ls=":",
-                   label=f"recommended settled: {settle[k - 1]:.1f} s")
+                   label=f"default (auto) settled: {settle[k - 1]:.1f} s")
     ax.set_ylim(level - 0.6, level + 0.6)
     ax.set_title(f"close-up: step to {plateaus[k].nominal:g} lb", fontsize=9)
     ax.set_xlabel("t (s)")

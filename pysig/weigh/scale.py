@@ -19,7 +19,38 @@ from scipy.ndimage import maximum_filter1d, median_filter, minimum_filter1d
 from ..errors import InsufficientDataError, ModelFileError, RangeError, SaturationError
 from ..io import atomic_output
 from ..lsq import fit_poly
-from ..reference import scale as ref_scale
+
+MAX_SHIFT = 62                  # sig_scale.h: gain_shift 0..62
+OUT_FRAC = 16                   # Q16.16 output
+INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
+
+
+def quantize(offset, gain, out_frac=OUT_FRAC):
+    """Integer image (offset, gain_mant, gain_shift) of a float calibration
+    for csrc/weigh/sig_scale.c: offset rounded to the nearest code; the
+    largest gain_shift in 0..62 that keeps |gain_mant| <= INT32_MAX.
+
+    Raises
+    ------
+    RangeError
+        Non-finite or zero gain, an offset outside int32, a gain too large
+        for the Q16 output or so small that it underflows."""
+    offset, gain = float(offset), float(gain)
+    if not (np.isfinite(offset) and np.isfinite(gain)) or gain == 0.0:
+        raise RangeError(f"scale quantize: offset {offset!r} and gain {gain!r} must be finite, gain != 0")
+    off = int(round(offset))
+    if not INT32_MIN <= off <= INT32_MAX:
+        raise RangeError(f"scale quantize: offset {offset!r} counts does not fit int32")
+    target = gain * 2.0 ** out_frac
+    if abs(round(target)) > INT32_MAX:
+        raise RangeError(f"scale quantize: gain {gain!r} unit/count is too large for a Q{out_frac} output")
+    shift = 0
+    while shift < MAX_SHIFT and abs(round(target * 2.0 ** (shift + 1))) <= INT32_MAX:
+        shift += 1
+    mant = int(round(target * 2.0 ** shift))
+    if mant == 0:
+        raise RangeError(f"scale quantize: gain {gain!r} unit/count underflows the Q{out_frac} image")
+    return off, mant, shift
 
 
 @dataclass(frozen=True)
@@ -39,11 +70,11 @@ class Calibration:
 
     def to_mass(self, counts):
         """Float path (the same formula as csrc sig_scale_apply_f)."""
-        return ref_scale.apply_f(counts, self.offset_counts, self.gain)
+        return (np.asarray(counts, dtype=float) - float(self.offset_counts)) * float(self.gain)
 
     def fixed(self, out_frac=16):
-        """The integer image for csrc/sig_scale.c (see reference.scale.quantize)."""
-        return ref_scale.quantize(self.offset_counts, self.gain, out_frac)
+        """The integer image for csrc/weigh/sig_scale.c (quantize)."""
+        return quantize(self.offset_counts, self.gain, out_frac)
 
     def to_dict(self):
         off, mant, shift = self.fixed()

@@ -1,14 +1,18 @@
-"""`pysig filter IN.csv --column counts -o OUT.csv [--preset paper|adaptive|recommended] [--fixed]`
+"""`pysig filter IN.csv --column counts -o OUT.csv [--preset auto|paper|adaptive|recommended] [--fixed]`
 
 Run the weighing chain (limit -> anti-pulse -> Kalman -> stability) over one
 column.  OUT.csv is IN.csv's columns plus `filtered` and `stable` (1/0), and
 with --status the chain's status bits per sample (4 impulse replaced,
-16 lock-out re-seed, 32 motion restart, 64 tare applied, 1 clamped).
+16 lock-out re-seed, 32 motion restart, 64 tare applied, 1 clamped,
+128 measured noise at its floor: a stuck sensor).
 
-The default preset, `recommended`, is tuned on a real HX711 recording and
-expects HX711-class counts (1000 counts per lb) unless --units-per-kg says
-otherwise; `paper` reproduces the paper's parameters exactly (kg signal by
-default).  Every parameter option is in kg (variances in kg^2) and is
+The default preset, `auto`, needs no sensor constant and no unit: it
+measures the noise on the fly and every threshold (A0, motion band,
+stability step, zero-tracking band and rate) follows it; an explicit --R
+(signal units squared) fixes the noise instead.  `recommended` is tuned
+on a real HX711 recording and expects HX711-class counts (1000 counts per
+lb) unless --units-per-kg says otherwise; `paper` reproduces the paper's
+parameters exactly (kg signal by default).  Every parameter option is in kg (variances in kg^2) and is
 converted to signal units with --units-per-kg.  The presets `recommended`
 and `adaptive` derive their thresholds from --R, the variance of one reading
 of your sensor (--A0 auto = A0-sigmas * sqrt(R); --motion-band auto =
@@ -18,7 +22,7 @@ import numpy as np
 
 from ...weigh.chain import PRESETS, Chain
 from ...errors import InputFileError, NonFiniteError, SaturationError
-from ...reference.chain import CODE_MAX
+from ...weigh.presets import CODE_MAX
 from ...io import read_csv, write_csv
 
 
@@ -56,7 +60,7 @@ def register(sub):
     p.add_argument("input", metavar="IN.csv")
     p.add_argument("--column", required=True, help="column holding the samples")
     p.add_argument("-o", "--output", required=True, metavar="OUT.csv")
-    p.add_argument("--preset", choices=sorted(PRESETS), default="recommended")
+    p.add_argument("--preset", choices=sorted(PRESETS), default="auto")
     p.add_argument("--fixed", action="store_true", help="use the fixed-point C path")
     p.add_argument("--units-per-kg", type=float, default=None,
                    help="signal units per kg (default: the preset's)")

@@ -1,0 +1,123 @@
+/* sig_noise.c - the noise sigma measured on the fly; see sig_noise.h. */
+#include "sig_noise.h"
+#include "sig_antipulse.h"
+
+static bool finite_f(sig_real x)
+{
+    return x - x == SIG_REAL(0.0);
+}
+
+static sig_real floor_f(sig_real x, sig_real res)
+{
+    sig_real f = (x < SIG_REAL(0.0) ? -x : x) * SIG_NOISE_FLOOR_REL;
+    sig_real q = res * SIG_REAL(0.25);
+    if (q > f) f = q;
+    return f > SIG_NOISE_FLOOR_ABS ? f : SIG_NOISE_FLOOR_ABS;
+}
+
+/* the step's shift: large steps while the estimate is new */
+static uint8_t step_shift(uint8_t count)
+{
+    return count < 8u ? 2u : (count < SIG_NOISE_WARMUP ? 3u : (count < 56u ? 4u : 5u));
+}
+
+sig_status sig_noise_reset_f(sig_noise_f *s)
+{
+    if (!s) return SIG_ERR_ARG;
+    s->prev = SIG_REAL(0.0);
+    s->sigma = SIG_NOISE_FLOOR_ABS;
+    s->res = SIG_REAL(0.0);
+    s->count = 0u;
+    s->has_prev = false;
+    return SIG_OK;
+}
+
+sig_status sig_noise_step_f(sig_noise_f *s, sig_real x, bool update)
+{
+    sig_real d, up, lo;
+    uint8_t sh;
+    if (!s) return SIG_ERR_ARG;
+    if (!finite_f(x)) return SIG_WARN_REJECTED;
+    d = x - s->prev;                            /* may overflow to inf: counts as large */
+    if (d < SIG_REAL(0.0)) d = -d;
+    if (s->has_prev && d > SIG_REAL(0.0) && d < SIG_NOISE_MAX_F && (d < s->res || s->res == SIG_REAL(0.0)))
+        s->res = d;                             /* the code size of a quantised signal */
+    if (s->has_prev && update) {
+        if (s->count == 0u) {
+            s->sigma = d < SIG_NOISE_MAX_F ? d : SIG_NOISE_MAX_F;
+        } else {
+            sh = step_shift(s->count);
+            up = s->sigma * (sh == 2u ? SIG_REAL(0.25) : (sh == 3u ? SIG_REAL(0.125)
+                             : (sh == 4u ? SIG_REAL(0.0625) : SIG_REAL(0.03125))));
+            if (d > s->sigma) {
+                s->sigma = s->sigma + up;
+                if (s->sigma > SIG_NOISE_MAX_F) s->sigma = SIG_NOISE_MAX_F;
+            } else if (d < s->sigma) {
+                s->sigma = s->sigma - (up - up * SIG_REAL(0.125));
+            }
+        }
+        if (s->count < 255u) s->count++;
+    }
+    lo = floor_f(x, s->res);
+    if (s->sigma < lo) s->sigma = lo;
+    s->prev = x;
+    s->has_prev = true;
+    return SIG_OK;
+}
+
+bool sig_noise_at_floor_f(const sig_noise_f *s)
+{
+    return s->sigma <= floor_f(s->prev, s->res);
+}
+
+sig_status sig_noise_reset_q(sig_noise_q *s)
+{
+    if (!s) return SIG_ERR_ARG;
+    s->prev = 0;
+    s->sigma = SIG_NOISE_FLOOR_Q7;
+    s->count = 0u;
+    s->has_prev = false;
+    return SIG_OK;
+}
+
+sig_status sig_noise_step_q(sig_noise_q *s, int32_t x, bool update)
+{
+    int32_t d, up, sigma;                       /* the state in locals: one load, one store */
+    uint8_t count;
+    if (!s) return SIG_ERR_ARG;
+    if (x > SIG_CODE_MAX) x = SIG_CODE_MAX;
+    else if (x < -SIG_CODE_MAX) x = -SIG_CODE_MAX;
+    if (s->has_prev && update) {
+        sigma = s->sigma;
+        count = s->count;
+        d = x - s->prev;                        /* |codes| <= 2^24 - 1: no overflow */
+        if (d < 0) d = -d;
+        d = d > (INT32_MAX >> 7) ? INT32_MAX : (int32_t)((uint32_t)d << 7);
+        if (count == 0u) {
+            sigma = d < SIG_NOISE_MAX_Q7 ? d : SIG_NOISE_MAX_Q7;
+        } else {
+            /* constant shifts (a variable one is a loop on the MCUs) */
+            if (count >= 56u) up = sigma >> 5;
+            else if (count >= SIG_NOISE_WARMUP) up = sigma >> 4;
+            else if (count >= 8u) up = sigma >> 3;
+            else up = sigma >> 2;                /* sigma > 0 */
+            if (d > sigma) {
+                sigma += up;
+                if (sigma > SIG_NOISE_MAX_Q7) sigma = SIG_NOISE_MAX_Q7;
+            } else if (d < sigma) {
+                sigma -= up - (up >> 3);
+            }
+        }
+        if (count < 255u) count++;
+        s->count = count;
+        s->sigma = sigma < SIG_NOISE_FLOOR_Q7 ? SIG_NOISE_FLOOR_Q7 : sigma;
+    }
+    s->prev = x;
+    s->has_prev = true;
+    return SIG_OK;
+}
+
+bool sig_noise_at_floor_q(const sig_noise_q *s)
+{
+    return s->sigma <= SIG_NOISE_FLOOR_Q7;
+}
