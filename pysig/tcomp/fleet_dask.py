@@ -21,11 +21,18 @@ FIELDS_1 = ["ok", "order", "n_temps", "samples", "t_lo", "t_hi", "t_center", "u_
 FIELDS_A = ["f_t0", "q", "bound", "rms", "cv_rms", "drift"]
 
 
-def _read(item, index, device, temp, columns):
+def _read(item, index, device, temp, readings):
     path, consts = item
-    t = read_log(path, consts, device, temp, columns).to_pandas()
-    t["source"] = index
+    t = read_log(path, consts, device, temp, readings).to_pandas()
+    t["source"] = np.int64(index)
     return t
+
+
+def _log_meta(n_axes):
+    import pandas as pd
+    return pd.DataFrame({"device": pd.Series([], dtype=object), "temp": pd.Series([], dtype=float),
+                         **{f"value{i}": pd.Series([], dtype=float) for i in range(n_axes)},
+                         "source": pd.Series([], dtype=np.int64)})
 
 
 def _fit_partition(pdf, axes, model, t0, files, max_coef):
@@ -90,7 +97,7 @@ def fit_fleet_dask(paths, device, temp, columns, model="auto", t0=25.0, client=N
     files = [f for f, _ in items]
     max_coef = (int(model) if model != "auto" else 8) + 1
     frame = dd.from_map(_read, items, list(range(len(items))), device=device, temp=temp,
-                        columns=list(columns), enforce_metadata=False)
+                        readings=list(columns), meta=_log_meta(len(columns)), enforce_metadata=False)
     n_out = partitions or max(len(items), 2 * max(1, len(client.scheduler_info()["workers"])) if client else 2)
     frame = frame.shuffle("device", npartitions=n_out)
     meta = _empty(list(columns), max_coef)
