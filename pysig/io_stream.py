@@ -20,8 +20,8 @@ from .io import (CSV_WRITE_OPTIONS, _csv_header, _parquet_file, _short_row, atom
                  csv_header_line, csv_options, first_unconvertible, invalid_row_catcher, is_parquet,
                  not_a_number, read_header, require_columns, row_label)
 
-CSV_BLOCK_BYTES = 8 << 20        # ~450 000 rows of a two-column log per chunk
-PARQUET_BATCH_ROWS = 1 << 19
+CSV_BLOCK_BYTES = 1 << 20        # ~60 000 rows of a two-column log per chunk (larger blocks made pyarrow hold more in flight)
+PARQUET_BATCH_ROWS = 1 << 16
 
 
 def iter_batches(path, numeric=(), strings=(), columns=None, block_bytes=CSV_BLOCK_BYTES,

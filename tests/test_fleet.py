@@ -22,11 +22,6 @@ from pysig.tcomp.fleet import device_groups, fit_fleet
 from pysig.tcomp.fit import temperature_groups
 
 
-def _per_device(serial, temp, y, model):
-    devices, dev = np.unique(serial, return_inverse=True)
-    return devices, dev
-
-
 def _check_equal(serial, temp, y, model, t0=25.0):
     devices, dev = np.unique(serial, return_inverse=True)
     ff = fit_fleet(dev, temp, y, devices, ["x", "y", "z"], model=model, t0=t0)
@@ -116,6 +111,8 @@ def test_cli_writes_models_images_summary_and_plots(tmp_path, capsys):
     assert image_device_status(image, "SN-0001") == 0
     assert image_device_status(image, "SN-0002") == SIG_ERR_DEVICE
     assert json.loads((out / "SN-0001.json").read_text())["report"]["device"] == "SN-0001"
+    model.save(tmp_path / "again.json")                  # the fleet writes what TcompModel.save writes
+    assert (tmp_path / "again.json").read_bytes() == (out / "SN-0001.json").read_bytes()
 
 
 def test_logs_split_over_files_equal_one_log_and_parquet_equals_csv(tmp_path):

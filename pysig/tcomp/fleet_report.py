@@ -11,6 +11,7 @@ fleet's robust spread, median +- k * MAD (MAD = median absolute deviation
 from the median, over the fitted devices), or when it could not be fitted
 (too few temperatures and the other reasons of pysig.tcomp.fleet)."""
 import hashlib
+import json
 import os
 import re
 import shutil
@@ -22,6 +23,7 @@ from ..errors import OutputFileError
 from ..io import write_csv
 from ..store.device_id import device_section
 from ..store.image import model_image
+from . import model as tmodel
 
 DEFAULT_K = 5.0
 SUMMARY = "fleet_summary.csv"
@@ -88,6 +90,15 @@ def summary_columns(fit, flagged, reason):
     return cols
 
 
+def model_text(model):
+    """The text TcompModel.save writes (checksummed JSON), without its
+    per-file temporary file: the fleet's staging directory already makes
+    the whole output appear at once."""
+    d = model.to_dict()
+    d[tmodel.CHECKSUM_KEY] = tmodel.checksum(d)
+    return json.dumps(d, indent=2, allow_nan=False) + "\n"
+
+
 def write_models(fit, directory, temp_column="temp"):
     """<stem>.json and <stem>.bin (model image + device-id section) per
     fitted device; returns the number written."""
@@ -95,7 +106,8 @@ def write_models(fit, directory, temp_column="temp"):
     for d in np.flatnonzero(fit.ok):
         model = fit.model(d, temp_column)
         stem = os.path.join(directory, file_stem(fit.devices[d]))
-        model.save(stem + ".json")
+        with open(stem + ".json", "w") as fh:       # the staging directory is what makes it atomic
+            fh.write(model_text(model))
         with open(stem + ".bin", "wb") as fh:
             fh.write(model_image(model, extra_sections=[device_section(str(fit.devices[d]))]))
         n += 1

@@ -79,7 +79,7 @@ def register(sub):
     p.add_argument("--in-memory", action="store_true",
                    help="read the whole input at once (default: stream it in chunks, the chain's "
                         "state carried across them; the output is the same)")
-    p.add_argument("--chunk-mb", type=float, default=8.0,
+    p.add_argument("--chunk-mb", type=float, default=1.0,
                    help="streaming chunk size, MB of CSV text (Parquet: MB/16 rows)")
     p.set_defaults(func=run)
 
