@@ -2,12 +2,11 @@
 the output of the in-memory path; errors found in a later chunk still name
 the row; nothing is written when a chunk fails."""
 import numpy as np
-import pyarrow.parquet as pq
 import pytest
 from hypothesis import given, settings, strategies as st
 
 from pysig import cli
-from pysig.errors import InputFileError, NonFiniteError
+from pysig.errors import NonFiniteError
 from pysig.io import read_csv, write_csv
 from pysig.io_stream import iter_batches, table_sink
 from pysig.sim.loadcell import simulate

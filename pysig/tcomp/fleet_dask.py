@@ -82,7 +82,7 @@ def connect(scheduler=None, workers=2, processes=True):
     if scheduler:
         return Client(scheduler)
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes,
-                           dashboard_address=None)
+                           dashboard_address=":0")
     return Client(cluster)
 
 
