@@ -118,6 +118,29 @@ def not_a_number(path, index, name, cell):
                           f"not a number: {cell!r}")
 
 
+# ---- numpy <-> arrow without pandas -----------------------------------------
+# pyarrow's pa.array(ndarray) and Array.to_numpy() import pandas when it is
+# installed (~0.4 s and ~50 MB on every run); numeric buffers need neither.
+def from_numpy(a):
+    """A pyarrow Array over a 1-D numeric ndarray (booleans as int64 0/1)."""
+    a = np.asarray(a)
+    if a.dtype == bool:
+        a = a.astype(np.int64)
+    if a.dtype.kind not in "iuf":
+        return pa.array(a)
+    a = np.ascontiguousarray(a)
+    return pa.Array.from_buffers(pa.from_numpy_dtype(a.dtype), a.size, [None, pa.py_buffer(a)])
+
+
+def float64_values(array):
+    """The values of a null-free numeric pyarrow (Chunked)Array as a float64 ndarray."""
+    if isinstance(array, pa.ChunkedArray):
+        array = array.chunk(0) if array.num_chunks == 1 else array.combine_chunks()
+    if array.type != pa.float64():
+        array = array.cast(pa.float64())
+    return np.frombuffer(array.buffers()[1], dtype=np.float64, count=len(array), offset=array.offset * 8)
+
+
 # ---- numeric columns ---------------------------------------------------------
 def numeric_column(path, name, array, offset=0):
     """A pyarrow column as float64 numpy; InputFileError (file, row, column)
@@ -136,9 +159,7 @@ def numeric_column(path, name, array, offset=0):
         i = int(np.flatnonzero(array.is_null().to_numpy(zero_copy_only=False))[0])
         raise InputFileError(f"{path}: row {row_label(path, offset + i)}, column '{name}': "
                              f"empty (null) cell where a number is needed")
-    if isinstance(array, pa.ChunkedArray):
-        array = array.combine_chunks() if array.num_chunks != 1 else array.chunk(0)
-    return np.asarray(array.cast(pa.float64()).to_numpy(zero_copy_only=False), dtype=np.float64)
+    return float64_values(array)
 
 
 def check_finite(path, name, x, offset=0):
@@ -251,7 +272,7 @@ def read_table(path, columns=None, numeric=None, strings=()):
             raise InputFileError(f"{path}: cannot read Parquet data: {exc}") from None
         out = {n: table[n] for n in wanted}
         for n in numeric:
-            out[n] = pa.array(numeric_column(path, n, out[n]))
+            out[n] = from_numpy(numeric_column(path, n, out[n]))
         for n in strings:
             if not (pa.types.is_string(out[n].type) or pa.types.is_integer(out[n].type)):
                 raise InputFileError(f"{path}: column '{n}' holds {out[n].type}, expected text or integers")
@@ -340,10 +361,7 @@ def as_arrow(values):
     """One output column as a pyarrow array: booleans as 0/1 integers."""
     if isinstance(values, (pa.Array, pa.ChunkedArray)):
         return values.cast(pa.int64()) if pa.types.is_boolean(values.type) else values
-    a = np.asarray(values)
-    if a.dtype == bool:
-        a = a.astype(np.int64)
-    return pa.array(a)
+    return from_numpy(values)
 
 
 def to_table(columns):

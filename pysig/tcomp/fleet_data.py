@@ -17,7 +17,7 @@ import pyarrow as pa
 import pyarrow.compute as pc
 
 from ..errors import InputFileError
-from ..io import read_header, read_table, require_columns, row_label
+from ..io import float64_values, read_header, read_table, require_columns, row_label
 
 LOG_SUFFIXES = (".csv", ".parquet", ".pq")
 
@@ -127,9 +127,9 @@ def load_fleet(paths, device, temp, columns):
     serial = table["device"].combine_chunks()
     devices = pc.unique(serial)
     devices = pc.take(devices, pc.sort_indices(devices))
-    dev = pc.index_in(serial, value_set=devices).to_numpy(zero_copy_only=False).astype(np.int64)
-    temp_a = table["temp"].to_numpy()
-    values = np.column_stack([table[f"value{i}"].to_numpy() for i in range(len(columns))])
+    dev = float64_values(pc.index_in(serial, value_set=devices)).astype(np.int64)
+    temp_a = float64_values(table["temp"])
+    values = np.column_stack([float64_values(table[f"value{i}"]) for i in range(len(columns))])
     devices = np.asarray(devices.to_pylist(), dtype=object)
     check_conflicts([f for f, _ in files], dev, source, temp_a, values, devices)
     return FleetLog(devices=devices, dev=dev, source=source, files=[f for f, _ in files],

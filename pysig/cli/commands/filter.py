@@ -25,7 +25,7 @@ import pyarrow as pa
 from ...weigh.chain import PRESETS, Chain
 from ...errors import InputFileError, NonFiniteError, SaturationError
 from ...reference.chain import CODE_MAX
-from ...io import numeric_column, read_header, read_table, row_label
+from ...io import from_numpy, numeric_column, read_header, read_table, row_label
 from ...io_stream import iter_batches, progress, table_sink
 
 
@@ -125,12 +125,13 @@ def run(args):
                 _check_fixed_codes(args.input, args.column, x, offset)
             filtered, stable, status = chain.process(x, flags=True)
             cols = {name: batch[name] for name in batch.column_names}
-            cols[args.column] = pa.array(x)
-            cols["filtered"] = pa.array(filtered)
-            cols["stable"] = pa.array(stable.astype(np.int64))
+            cols[args.column] = from_numpy(x)
+            cols["filtered"] = from_numpy(filtered)
+            cols["stable"] = from_numpy(stable.astype(np.int64))
             if args.status:
-                cols["status"] = pa.array(status.astype(np.int64))
-            sink.write(pa.table(cols) if isinstance(batch, pa.Table) else pa.record_batch(cols))
+                cols["status"] = from_numpy(status.astype(np.int64))
+            make = pa.Table.from_arrays if isinstance(batch, pa.Table) else pa.RecordBatch.from_arrays
+            sink.write(make(list(cols.values()), names=list(cols)))
             rows += x.size
             rejected += int(np.count_nonzero(status & 4))
             stable_rows += int(np.count_nonzero(stable))
