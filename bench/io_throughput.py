@@ -3,15 +3,16 @@ same run, and peak memory.
 
 The input is an HX711-like log (time in s, integer counts: steps, noise,
 read glitches), 5 M rows by default (~90 MB of CSV).  Each figure is one
-process, timed from its start to its exit, peak memory from the kernel
-(ru_maxrss of that process, os.wait4):
+process, timed from its start to its exit, peak memory the process's own
+VmHWM (peak resident set, read from /proc/self/status as it exits):
 
-* floor: pyarrow.csv.read_csv of the file, the chain (pysig.weigh.Chain,
-  the C core) over the counts column, pyarrow.csv.write_csv of the input
-  columns plus `filtered` and `stable`: what the job costs with nothing of
-  pysig's checks or streaming;
-* pysig: `python -m pysig filter IN --column counts -o OUT` (streaming, the
-  default) and with --in-memory;
+* floor: pyarrow.csv.read_csv of the file (counts as float64), the chain
+  (pysig.weigh.Chain, the C core) over the counts column, pyarrow.csv.write_csv
+  of the input columns plus `filtered` and `stable`, numpy and arrow
+  exchanging buffers (pyarrow's pa.array/to_numpy would import pandas): what
+  the job costs with nothing of pysig's checks or streaming;
+* pysig: `pysig filter IN --column counts -o OUT` (streaming, the default)
+  and with --in-memory, run as `python -m pysig` does (pysig.cli.main);
 * each also in CPU seconds (user + system of the process): on a shared
   machine the wall clock carries other people's load, the CPU time less so;
 * streaming at --big-rows (50 M by default; --big-rows 0 skips it).
@@ -41,10 +42,30 @@ FLOOR = """
 import sys
 import numpy as np, pyarrow as pa, pyarrow.csv as pcsv
 from pysig.weigh.chain import Chain
-t = pcsv.read_csv(sys.argv[1])
-y, stable = Chain().process(t.column("counts").to_numpy().astype(np.float64))
-t = t.append_column("filtered", pa.array(y)).append_column("stable", pa.array(stable.astype(np.int64)))
+t = pcsv.read_csv(sys.argv[1], convert_options=pcsv.ConvertOptions(column_types={"counts": pa.float64()}))
+c = t.column("counts").combine_chunks()
+x = np.frombuffer(c.buffers()[1], dtype=np.float64, count=len(c), offset=c.offset * 8)
+y, stable = Chain().process(x)
+stable = stable.astype(np.int64)
+arr = lambda a: pa.Array.from_buffers(pa.from_numpy_dtype(a.dtype), a.size, [None, pa.py_buffer(a)])
+t = t.append_column("filtered", arr(y)).append_column("stable", arr(stable))
 pcsv.write_csv(t, sys.argv[2])
+""" + "\n"
+# Peak memory is the child's own VmHWM (/proc/self/status), printed as it
+# exits: the kernel's ru_maxrss of a child started by fork/vfork + exec
+# carries the parent's peak from before the exec (this script's own arrays).
+REPORT_PEAK = """
+def _report_peak():
+    for line in open("/proc/self/status"):
+        if line.startswith("VmHWM:"):
+            sys.stderr.write("PEAK_KB=" + line.split()[1] + "\\n")
+"""
+PYSIG = """
+import sys
+from pysig.cli import main
+status = main(sys.argv[1:])
+_report_peak()
+sys.exit(status)
 """
 
 
@@ -62,7 +83,8 @@ def make_log(path, rows, seed=0, block=5_000_000):
 
 
 def run(cmd):
-    """(wall seconds, CPU seconds (user + system), peak RSS MB) of one child process."""
+    """(wall seconds, CPU seconds (user + system), peak RSS MB) of one child
+    process that prints PEAK_KB=... on stderr as it exits."""
     env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in [ROOT, os.environ.get("PYTHONPATH")] if p))
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
@@ -72,7 +94,8 @@ def run(cmd):
     proc.returncode = os.waitstatus_to_exitcode(status)
     if proc.returncode != 0:
         raise SystemExit(f"{' '.join(cmd)} failed ({proc.returncode}): {err}")
-    return secs, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024.0
+    peak = [line for line in err.splitlines() if line.startswith("PEAK_KB=")]
+    return secs, usage.ru_utime + usage.ru_stime, int(peak[-1][8:]) / 1024.0
 
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -82,11 +105,12 @@ def measure(src, tmp, rows, extra, floor=True):
     out = os.path.join(tmp, "out.csv")
     row = {"rows": rows, "mode": "in-memory" if "--in-memory" in extra else "streaming",
            "input_mb": os.path.getsize(src) / 1e6, "output_column_mb": rows * 4 * 8 / 1e6}
-    row["pysig_s"], row["pysig_cpu_s"], row["peak_rss_mb"] = run([sys.executable, "-m", "pysig", "filter", src, "--column",
-                                              "counts", "-o", out, *extra])
+    row["pysig_s"], row["pysig_cpu_s"], row["peak_rss_mb"] = run(
+        [sys.executable, "-c", "import sys\n" + REPORT_PEAK + PYSIG, "filter", src, "--column", "counts",
+         "-o", out, *extra])
     if floor:
         row["floor_s"], row["floor_cpu_s"], row["floor_peak_rss_mb"] = run(
-            [sys.executable, "-c", FLOOR, src, os.path.join(tmp, "floor.csv")])
+            [sys.executable, "-c", FLOOR + REPORT_PEAK + "_report_peak()\n", src, os.path.join(tmp, "floor.csv")])
         row["ratio"] = row["pysig_s"] / row["floor_s"]
         row["ratio_cpu"] = row["pysig_cpu_s"] / row["floor_cpu_s"]
     row["load_avg_1min"] = os.getloadavg()[0]
