@@ -103,7 +103,8 @@ def write_models(fit, directory, temp_column="temp"):
     """<stem>.json and <stem>.bin (model image + device-id section) per
     fitted device; returns the number written."""
     n = 0
-    for d in np.flatnonzero(fit.ok):
+    todo = np.flatnonzero(fit.ok)
+    for d in _progress(todo, "devices written"):
         model = fit.model(d, temp_column)
         stem = os.path.join(directory, file_stem(fit.devices[d]))
         with open(stem + ".json", "w") as fh:       # the staging directory is what makes it atomic
@@ -112,6 +113,15 @@ def write_models(fit, directory, temp_column="temp"):
             fh.write(model_image(model, extra_sections=[device_section(str(fit.devices[d]))]))
         n += 1
     return n
+
+
+def _progress(items, what):
+    """`items`, with a tqdm bar on stderr while stderr is a terminal."""
+    import sys
+    if not sys.stderr.isatty():
+        return items
+    from tqdm import tqdm
+    return tqdm(items, desc=what, unit="dev", unit_scale=True, file=sys.stderr, leave=False)
 
 
 def fleet_plots(fit, flagged, directory, worst=5):
