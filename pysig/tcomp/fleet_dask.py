@@ -78,11 +78,13 @@ def _empty(axes, max_coef):
 def connect(scheduler=None, workers=2, processes=True):
     """A distributed Client: to `scheduler` (an address), or a local cluster
     of `workers` single-threaded workers."""
+    import logging
     from distributed import Client, LocalCluster
+    logging.getLogger("distributed.shuffle").setLevel(logging.ERROR)   # per-shuffle notices on stderr
     if scheduler:
         return Client(scheduler)
     cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes,
-                           dashboard_address=":0")
+                           dashboard_address=":0", silence_logs=logging.ERROR)
     return Client(cluster)
 
 
