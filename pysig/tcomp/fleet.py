@@ -110,8 +110,8 @@ def device_groups(dev, temp, n_dev, gap=single.GAP_C, max_span=single.MAX_SPAN_C
     labels = np.empty_like(label_sorted)
     labels[order] = label_sorted
     n_groups = np.bincount(cdev[keep], minlength=n_dev)
-    for d in np.unique(cdev[wide]):
-        rows = np.flatnonzero(dev == d)
+    for d in np.unique(cdev[wide]):                        # ramps: a Python call per such device
+        rows = np.sort(order[np.searchsorted(sd, d, "left"):np.searchsorted(sd, d, "right")])
         g = single.temperature_groups(temp[rows], gap, max_span, min_share)
         labels[rows] = g.labels
         n_groups[d] = g.count
