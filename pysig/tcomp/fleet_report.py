@@ -56,7 +56,7 @@ def robust_outliers(values, ok, k):
 
 
 def screen(fit, k=DEFAULT_K):
-    """Per device (flagged, reason) and the fleet's spread per metric."""
+    """Per device (flagged, reason), and per metric (median, MAD, outside mask)."""
     D = len(fit.devices)
     flagged = ~fit.ok.copy()
     reason = np.array([f"not fitted: {r}" if r else "" for r in fit.reason], dtype=object)
@@ -65,7 +65,7 @@ def screen(fit, k=DEFAULT_K):
     for i, axis in enumerate(fit.axes):
         for name, values, unit in ((f"fit error {axis}", err[:, i], ""), (f"drift {axis}", fit.drift[:, i], "/°C")):
             out, med, mad = robust_outliers(values, fit.ok, k)
-            spread[name] = (med, mad)
+            spread[name] = (med, mad, out)
             for d in np.flatnonzero(out):
                 text = f"{name} {values[d]:.4g}{unit} outside {med:.4g} +- {k:g}*{mad:.3g}"
                 reason[d] = f"{reason[d]}; {text}" if reason[d] else text
@@ -124,11 +124,11 @@ def _progress(items, what):
     return tqdm(items, desc=what, unit="dev", unit_scale=True, file=sys.stderr, leave=False)
 
 
-def fleet_plots(fit, flagged, directory, worst=5):
+def fleet_plots(fit, flagged, spread, k, directory, worst=5):
     """fleet_coefficients.png (distribution of each axis' drift and fit
-    error, flagged devices marked) and fleet_worst.png (the correction
-    delta(T) of the fleet, median and 5-95 % band, against the devices
-    furthest from it)."""
+    error, the median +- k*MAD limits, the devices outside them marked) and
+    fleet_worst.png (the correction delta(T) of the fleet, median and 5-95 %
+    band, against the devices furthest from it)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -137,14 +137,17 @@ def fleet_plots(fit, flagged, directory, worst=5):
     A = len(fit.axes)
     fig, ax = plt.subplots(2, A, figsize=(4 * A, 6), squeeze=False)
     for i, a in enumerate(fit.axes):
-        for row, (values, label) in enumerate(((fit.drift[:, i], f"drift {a} (units/°C)"),
-                                                (err[:, i], f"fit error {a} (RMS, units)"))):
-            v = values[ok]
-            ax[row, i].hist(v, bins=60, color="0.6")
-            bad = values[ok & flagged]
-            if bad.size:
-                ax[row, i].plot(bad, np.zeros_like(bad), "r|", ms=14, label=f"flagged ({bad.size})")
-                ax[row, i].legend(fontsize=7)
+        for row, (values, name, label) in enumerate(
+                ((fit.drift[:, i], f"drift {a}", f"drift {a} (units/°C)"),
+                 (err[:, i], f"fit error {a}", f"fit error {a} (RMS, units)"))):
+            ax[row, i].hist(values[ok], bins=60, color="0.6")
+            med, mad, outside = spread[name]
+            if np.isfinite(med):
+                for edge in (med - k * mad, med + k * mad):
+                    ax[row, i].axvline(edge, color="b", lw=0.8, ls="--")
+            bad = values[outside]
+            ax[row, i].plot(bad, np.zeros_like(bad), "r|", ms=14, label=f"outside median +- {k:g} MAD ({bad.size})")
+            ax[row, i].legend(fontsize=7)
             ax[row, i].set_xlabel(label, fontsize=8)
     fig.suptitle(f"{int(ok.sum())} devices fitted, {int(flagged.sum())} flagged")
     fig.tight_layout()
@@ -202,7 +205,7 @@ def write_fleet(fit, directory, k=DEFAULT_K, temp_column="temp", plots=True):
         write_models(fit, staging, temp_column)
         write_csv(os.path.join(staging, SUMMARY), summary_columns(fit, flagged, reason))
         if plots:
-            fleet_plots(fit, flagged, staging)
+            fleet_plots(fit, flagged, spread, k, staging)
         os.chmod(staging, 0o777 & ~_umask())
         old = None
         if os.path.isdir(directory):

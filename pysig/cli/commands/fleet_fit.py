@@ -81,7 +81,7 @@ def run(args):
     print(f"fleet-fit: {len(fit.devices)} devices, {int(fit.ok.sum())} fitted "
           f"({', '.join(f'poly:{n} {c}' for n, c in enumerate(orders) if c)}), {int(flagged.sum())} flagged "
           f"(outside median +- k*MAD, k = {args.k:g}; or not fitted: {int((~fit.ok).sum())})")
-    for name, (med, mad) in spread.items():
+    for name, (med, mad, _) in spread.items():
         print(f"  {name:>16}: median {med:.4g}, MAD {mad:.3g}")
     print(f"wrote {args.output}/ ({SUMMARY}, <device>.json/.bin per fitted device"
           f"{', plots' if not args.no_plots else ''}); read+fit {t_fit - t_start:.2f} s "
