@@ -171,6 +171,23 @@ def seeds_effects_refined():
               + coefs + bytes([16, 20, 8]) + tail + pairs)
 
 
+def seeds_device_id():
+    # u8 serial length, serial, then a device-id payload: the device's own id
+    # (short serial verbatim, long one hashed) and another device's
+    def payload(serial):
+        if len(serial) <= 16:
+            return bytes([0, len(serial)]) + serial
+        h = 2166136261
+        for b in serial:
+            h = ((h ^ b) * 16777619) & 0xFFFFFFFF
+        return bytes([1, 16]) + struct.pack("<I", h) + serial[-12:]
+    for name, serial, made_for in (("own-short", b"SN-0001", b"SN-0001"), ("own-one", b"A", b"A"),
+                                   ("own-long", b"PLANT-01/LINE-4/LOT-2026-47/000123", None),
+                                   ("other", b"abc", b"abd")):
+        made_for = made_for or serial
+        write("device_id", f"seed-{name}", bytes([len(serial)]) + serial + payload(made_for))
+
+
 if __name__ == "__main__":
     seeds_types()
     seeds_pwl()
@@ -182,5 +199,6 @@ if __name__ == "__main__":
     seeds_scale()
     seeds_effects()
     seeds_effects_refined()
+    seeds_device_id()
     for d in sorted(CORPUS.iterdir()):
         print(f"{d.name}: {len(list(d.iterdir()))} seeds")

@@ -291,6 +291,57 @@ CASES = [
 ]
 
 
+# ---- columnar input (Parquet) and fleet logs ------------------------------------
+
+def case_parquet(cmd_argv, columns, name="in.parquet"):
+    """A command on a Parquet file written from `columns` (a dict of lists)."""
+    def build(tmp, model):
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+        src = tmp / name
+        pq.write_table(pa.table(columns), src)
+        out = tmp / "out.csv"
+        return [a.format(src=src, out=out, tmp=tmp) for a in cmd_argv], out
+    return build
+
+
+FLEET = "serial,temp,x\n" + "".join(f"SN{d},{t},{100 + d + 2 * t}\n" for d in range(3) for t in (0, 25, 50, 70))
+
+
+def case_fleet(*texts, extra=()):
+    """fleet-fit over CSV logs given as text; the output is a directory."""
+    def build(tmp, model):
+        logs = []
+        for i, text in enumerate(texts):
+            logs.append(tmp / f"log{i}.csv")
+            logs[-1].write_text(text)
+        out = tmp / "fleet_out"
+        return ["fleet-fit", *map(str, logs), "--device", "serial", "--columns", "x", "-o", str(out),
+                *extra], out
+    return build
+
+
+CASES += [
+    ("filter-duplicate-header", case_text("filter", WEIGH.replace("t,counts", "counts,counts", 1)),
+     InputFileError, ["in.csv", "row 1 (header)", "'counts' is given twice"]),
+    ("filter-parquet-wrong-type", case_parquet(["filter", "{src}", "--column", "counts", "-o", "{out}"],
+                                               {"t": [0.0, 0.1], "counts": ["1001", "heavy"]}),
+     InputFileError, ["in.parquet", "row 2", "'counts'", "not a number"]),
+    ("filter-parquet-bool-column", case_parquet(["filter", "{src}", "--column", "counts", "-o", "{out}"],
+                                                {"t": [0.0, 0.1], "counts": [True, False]}),
+     InputFileError, ["in.parquet", "'counts'", "holds bool"]),
+    ("fleet-fit-missing-device-column", case_fleet(FLEET.replace("serial,", "board,", 1)),
+     InputFileError, ["log0.csv", "missing column 'serial'"]),
+    ("fleet-fit-duplicate-header", case_fleet(FLEET.replace("serial,temp,x", "serial,temp,x,x", 1)
+                                              .replace("\n", ",0\n").replace("x,0\n", "x\n", 1)),
+     InputFileError, ["log0.csv", "'x' is given twice"]),
+    ("fleet-fit-conflicting-serial", case_fleet(FLEET, FLEET.replace("SN1,25,151", "SN1,25,999")),
+     InputFileError, ["log0.csv", "log1.csv", "'SN1'", "conflicting"]),
+    ("fleet-fit-empty-serial", case_fleet(FLEET + ",25,3\n"), InputFileError, ["log0.csv", "row 14", "empty serial"]),
+    ("fleet-fit-bad-model", case_fleet(FLEET, extra=["--model", "poly:0"]), RangeError, ["--model", "poly:0"]),
+]
+
+
 # Cases the spec demands but another owner's code does not do yet: each is an
 # xfail(strict=True) naming the file and the fix, so the test turns red (XPASS)
 # the moment the fix lands and the entry must go.  Listed in the report.

@@ -42,6 +42,7 @@ typedef int16_t sig_status;
 #define SIG_ERR_FORMAT      ((sig_status)-3)  /* malformed data (image magic, version, size) */
 #define SIG_ERR_CRC         ((sig_status)-4)  /* checksum mismatch */
 #define SIG_ERR_EMPTY       ((sig_status)-5)  /* nothing valid to load / no data yet */
+#define SIG_ERR_DEVICE      ((sig_status)-6)  /* valid image, but made for another device */
 
 #define SIG_Q16_ONE INT32_C(65536)
 

@@ -1,7 +1,12 @@
 """`pysig filter IN.csv --column counts -o OUT.csv [--preset auto|paper|adaptive|recommended] [--fixed]`
 
 Run the weighing chain (limit -> anti-pulse -> Kalman -> stability) over one
-column.  OUT.csv is IN.csv's columns plus `filtered` and `stable` (1/0), and
+column.  IN and OUT may each be CSV or Parquet (.parquet), by suffix.  The
+input is streamed in chunks with the chain's state carried across them, so
+memory stays bounded whatever the file's size (--in-memory reads it whole;
+the output is byte for byte the same).  A progress bar shows on stderr when
+it is a terminal.  OUT is IN's columns (the filtered column as float64) plus
+`filtered` and `stable` (1/0), and
 with --status the chain's status bits per sample (4 impulse replaced,
 16 lock-out re-seed, 32 motion restart, 64 tare applied, 1 clamped,
 128 measured noise at its floor: a stuck sensor).
@@ -19,11 +24,13 @@ of your sensor (--A0 auto = A0-sigmas * sqrt(R); --motion-band auto =
 motion-sigmas * sqrt(R / (window - 2))): give your sensor's R and they follow.  --fixed runs the firmware's
 fixed-point C code (samples rounded to integer codes)."""
 import numpy as np
+import pyarrow as pa
 
 from ...weigh.chain import PRESETS, Chain
 from ...errors import InputFileError, NonFiniteError, SaturationError
 from ...weigh.presets import CODE_MAX
-from ...io import read_csv, write_csv
+from ...io import from_numpy, numeric_column, read_header, read_table, row_label
+from ...io_stream import iter_batches, progress, table_sink
 
 
 
@@ -73,45 +80,66 @@ def register(sub):
     p.add_argument("--tare", action="store_true",
                    help="tare at the first stable output (the output is then net of it)")
     p.add_argument("--status", action="store_true", help="add the per-sample status column")
+    p.add_argument("--in-memory", action="store_true",
+                   help="read the whole input at once (default: stream it in chunks, the chain's "
+                        "state carried across them; the output is the same)")
+    p.add_argument("--chunk-mb", type=float, default=1.0,
+                   help="streaming chunk size, MB of CSV text (Parquet: MB/16 rows)")
     p.set_defaults(func=run)
 
 
-def _keep_integers(a):
-    """Columns that hold only whole numbers are written back as integers."""
-    if a.size and np.all(np.isfinite(a)) and np.all(a == np.round(a)) and np.all(np.abs(a) < 2**53):
-        return a.astype(np.int64)
-    return a
+def _check_fixed_codes(path, column, x, offset):
+    """The fixed form takes finite ADC codes within its 25-bit range."""
+    bad = np.flatnonzero(~np.isfinite(x))
+    if bad.size:
+        raise NonFiniteError(f"{path}: row {row_label(path, offset + int(bad[0]))}, column '{column}': "
+                             f"non-finite value {float(x[bad[0]])!r} (the fixed form takes ADC codes)")
+    beyond = np.flatnonzero(np.abs(x) > CODE_MAX)
+    if beyond.size:
+        i = int(beyond[0])
+        raise SaturationError(f"{path}: row {row_label(path, offset + i)}, column '{column}': code "
+                              f"{x[i]:.17g} beyond the fixed form's +-{CODE_MAX} (25-bit) range")
+
+
+def _batches(args):
+    """(offset, batch) of the input: one batch in memory, chunks otherwise."""
+    if args.in_memory:
+        yield 0, read_table(args.input, numeric=[args.column], strings=())
+    else:
+        yield from iter_batches(args.input, numeric=[args.column],
+                                block_bytes=max(1, int(args.chunk_mb * (1 << 20))),
+                                batch_rows=max(1, int(args.chunk_mb * (1 << 20)) // 16))
 
 
 def run(args):
-    data = read_csv(args.input, allow_nonfinite=True)
-    if args.column not in data:
+    header = read_header(args.input)
+    if args.column not in header:
         raise InputFileError(f"{args.input}: row 1 (header), column '{args.column}': missing "
-                             f"(columns are: {', '.join(data)})")
-    x = data[args.column]
-    bad = np.flatnonzero(~np.isfinite(x))
-    if args.fixed and bad.size:
-        raise NonFiniteError(f"{args.input}: row {int(bad[0]) + 2}, column '{args.column}': "
-                             f"non-finite value {float(x[bad[0]])!r} (the fixed form takes ADC codes)")
-    if args.fixed:
-        beyond = np.flatnonzero(np.abs(x) > CODE_MAX)
-        if beyond.size:
-            i = int(beyond[0])
-            raise SaturationError(f"{args.input}: row {i + 2}, column '{args.column}': code {x[i]:.17g} "
-                                  f"beyond the fixed form's +-{CODE_MAX} (25-bit) range")
+                             f"(columns are: {', '.join(header)})")
     overrides = {name: getattr(args, name) for _, name, _, _ in PARAMS}
     overrides["seed_first"] = args.seed_first
     chain = Chain(preset=args.preset, fixed=args.fixed, units_per_kg=args.units_per_kg, **overrides)
     if args.tare:
         chain.tare()
-    filtered, stable, status = chain.process(x, flags=True)
-    out = {name: _keep_integers(col) for name, col in data.items()}
-    out["filtered"] = filtered
-    out["stable"] = stable.astype(np.int64)
-    if args.status:
-        out["status"] = status.astype(np.int64)
-    write_csv(args.output, out)
-    rejected = int(np.count_nonzero(status & 4))
-    print(f"wrote {args.output}: {x.size} rows, preset {args.preset}"
+    rows = rejected = stable_rows = 0
+    with table_sink(args.output) as sink, progress(args.input) as advance:
+        for offset, batch in _batches(args):
+            x = numeric_column(args.input, args.column, batch[args.column], offset)
+            if args.fixed:
+                _check_fixed_codes(args.input, args.column, x, offset)
+            filtered, stable, status = chain.process(x, flags=True)
+            cols = {name: batch[name] for name in batch.column_names}
+            cols[args.column] = from_numpy(x)
+            cols["filtered"] = from_numpy(filtered)
+            cols["stable"] = from_numpy(stable.astype(np.int64))
+            if args.status:
+                cols["status"] = from_numpy(status.astype(np.int64))
+            make = pa.Table.from_arrays if isinstance(batch, pa.Table) else pa.RecordBatch.from_arrays
+            sink.write(make(list(cols.values()), names=list(cols)))
+            rows += x.size
+            rejected += int(np.count_nonzero(status & 4))
+            stable_rows += int(np.count_nonzero(stable))
+            advance(x.size)
+    print(f"wrote {args.output}: {rows} rows, preset {args.preset}"
           f"{' (fixed point)' if args.fixed else ''}, {rejected} samples replaced as impulses, "
-          f"stable on {np.mean(stable) * 100:.1f} % of rows")
+          f"stable on {stable_rows / max(rows, 1) * 100:.1f} % of rows")
