@@ -29,6 +29,9 @@ cdef extern from "sig_chain.h":
         int32_t zero_band_q7
         int32_t zero_rate_q7
 
+cdef extern from "../../csrc/port/mcs51/sig_chain_mcs51_gains.c":
+    pass
+
 cdef extern from "../../csrc/port/mcs51/sig_chain_mcs51.c":
     ctypedef struct sig_chain_mcs51_state:
         int32_t out

@@ -476,7 +476,10 @@ def _s51(img: Image, script, cpu="C52") -> str:
 def _mcs51_call_site(img: Image, fn: str, caller: str = "main"):
     """(address of the first 'lcall _fn' inside `caller` (main) in the .rst
     listings, return address).  Only calls in main count: a batch loop in
-    another harness function (run_batch) calls fn first."""
+    another harness function (run_batch) calls fn first.  fn may name its
+    caller as "fn@caller" (the call of fn inside that harness function)."""
+    if "@" in fn:
+        fn, caller = fn.split("@")
     pat = re.compile(r"^\s+([0-9A-F]{6}) 12 [0-9A-F]{2} [0-9A-F]{2}\s.*\blcall\s+_%s\s*$" % fn)
     label = re.compile(r"^\s+[0-9A-F]{6}\s+\d+ (_[A-Za-z0-9_]+):\s*$")
     for rst in sorted(img.path.parent.glob("*.rst")):
@@ -564,7 +567,7 @@ def _mcs51_code_labels(img: Image) -> list:
 def _profile_mcs51(img, func, n_instructions, cpu="C52"):
     import bisect
     timing = _timing()
-    entry = img.symbols["_" + func][1]
+    entry = img.symbols["_" + func.split("@")[0]][1]
     site, _ = _mcs51_call_site(img, func)
     to_entry = [f"break {site:#x}", "run", "delete", f"break {entry:#x}", "run"]
     out = _mcs51_history(img, to_entry, n_instructions, cpu)
@@ -590,7 +593,7 @@ def _measure_mcs51(img, funcs, regions, reads, stack, one_t=True, cpu="C52"):
     s = img.symbols
     res = {"funcs": {}, "regions": {}, "reads": {}}
     for fn in funcs:
-        entry = s["_" + fn][1]
+        entry = s["_" + fn.split("@")[0]][1]
         site, ret = _mcs51_call_site(img, fn)
         to_entry = [f"break {site:#x}", "run", "delete", f"break {entry:#x}", "run"]
         script = to_entry + ["state"]

@@ -187,3 +187,27 @@ def write_chain_header(case: ChainCase, path: Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("".join(h))
     return path
+
+
+# ------------------------------------------------------ 8051 chain port -----
+def chain_restart_x(case: ChainCase) -> int:
+    """A sample that the settled chain accepts (within A0 of the last one)
+    but that lies beyond the motion band: fed twice (motion_count 2 in the
+    recommended preset), the second one restarts window and Kalman."""
+    f = case.fixed
+    band = -(-f["motion_band_q7"] // 128)
+    return int(case.one_x + min(f["a0"] - 1, 3 * band))
+
+
+def write_chain_mcs51_header(case: ChainCase, gains: np.ndarray, path: Path) -> Path:
+    """Vectors of the chain plus the Kalman gain table (code memory) and the
+    motion-restart sample for bench/mcu/harness/chain_mcs51_harness.c."""
+    write_chain_header(case, path)
+    extra = [f"#define CH_N_GAINS {len(gains)}u\n",
+             f"#define CH_RESTART_X {c_int32(chain_restart_x(case))}\n",
+             "#include \"sig_chain_mcs51.h\"\n",
+             c_array("SIG_MCS51_CODE uint32_t", "ch_gains", gains,
+                     lambda v: f"UINT32_C({int(v)})")]
+    path = Path(path)
+    path.write_text(path.read_text() + "".join(extra))
+    return path

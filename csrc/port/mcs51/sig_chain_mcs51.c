@@ -4,10 +4,12 @@
  * indirect RAM and the 16x16 products are MUL AB sequences. */
 #include "sig_chain_mcs51.h"
 
-SIG_MCS51_DATA sig_chain_mcs51_state sig_chain_mcs51;
-SIG_MCS51_IDATA int16_t sig_chain_mcs51_window[SIG_ANTIPULSE_MAX];
+SIG_MCS51_IDATA sig_chain_mcs51_state sig_chain_mcs51;
+SIG_MCS51_XDATA sig_chain_mcs51_config sig_chain_mcs51_cfg;
+SIG_MCS51_XDATA int16_t sig_chain_mcs51_window[SIG_ANTIPULSE_MAX];
 
 #define S sig_chain_mcs51
+#define CFG sig_chain_mcs51_cfg
 #define WIN sig_chain_mcs51_window
 #define DEV_MAX 16383            /* |deviation| bound of the window: differences fit int16 */
 #define Q30_HALF UINT32_C(0x20000000)
@@ -109,6 +111,26 @@ static int32_t gain_any(int32_t a)
     return r >= UINT32_C(0x80000000) ? INT32_MIN : -(int32_t)r;
 }
 
+/* saturating int32 arithmetic of the portable chain (sig_types.h), for the
+ * branches where the operands' signs differ (the common case is one
+ * subtraction: a ^ b >= 0 means no overflow) */
+static int32_t sat_sub(int32_t a, int32_t b)
+{
+    if (b < 0 && a > INT32_MAX + b) return INT32_MAX;
+    if (b > 0 && a < INT32_MIN + b) return INT32_MIN;
+    return a - b;
+}
+
+static int32_t sat_add(int32_t a, int32_t b)
+{
+    if (b > 0 && a > INT32_MAX - b) return INT32_MAX;
+    if (b < 0 && a < INT32_MIN - b) return INT32_MIN;
+    return a + b;
+}
+
+#define SUB_SAT(a, b) (((a) ^ (b)) >= 0 ? (a) - (b) : sat_sub((a), (b)))
+#define ABS_SAT(v) ((v) >= 0 ? (v) : (v) == INT32_MIN ? INT32_MAX : -(v))
+
 static int32_t codes_to_q7(int32_t m)
 {
     return m >= 0 ? (int32_t)((uint32_t)m << 7) : -(int32_t)((uint32_t)-m << 7);
@@ -124,7 +146,7 @@ static void window_reset(void)
 
 /* Move the base to base + s: every held deviation, the extremes and Dc shift
  * by -s.  false (nothing changed) if a value would leave +-DEV_MAX. */
-static bool rebase(int32_t s)
+static bool rebase(int32_t s) SIG_MCS51_REENTRANT
 {
     uint8_t i;
     int32_t v;
@@ -150,7 +172,7 @@ static int16_t window_step(int16_t y)
     int16_t old, v, mx, mn;
     int32_t t;
     uint8_t i, d;
-    bool full = S.count == S.n;
+    uint8_t full = S.count == S.n;     /* uint8_t, not bool: sdcc keeps bool locals in the bit area that would split the direct RAM */
     old = WIN[S.head];
     WIN[S.head] = y;
     if (++S.head >= S.n) S.head = 0u;
@@ -196,45 +218,35 @@ static int16_t window_step(int16_t y)
 }
 
 /* ---- init ------------------------------------------------------------------- */
-sig_status sig_chain_mcs51_gains(uint32_t q_q30, uint32_t p0_q16, uint32_t *table,
-                                 uint16_t max, uint16_t *n)
+/* the checks of sig_chain_init_q (sig_chain.c), plus the port's own range */
+static bool params_ok(const sig_chain_params_q *p)
 {
-    sig_kalman1_q kf;
-    int32_t out;
-    uint16_t i;
-    if (table == NULL || n == NULL || sig_kalman1_init_q(&kf, q_q30, p0_q16, 0, false) != SIG_OK)
-        return SIG_ERR_ARG;
-    for (i = 0u; i < max; i++) {
-        (void)sig_kalman1_step_q(&kf, 0, &out);
-        table[i] = UINT32_C(1073741824) - kf.y;
-        if (kf.phase == 3u) {            /* settled: the gain holds from here on */
-            *n = (uint16_t)(i + 1u);
-            return SIG_OK;
-        }
-    }
-    return SIG_ERR_ARG;
+    return p->a0 > 0 && p->a0 <= SIG_CHAIN_MCS51_A0_MAX
+        && p->window >= 3u && p->window <= SIG_ANTIPULSE_MAX
+        && p->q_q30 <= SIG_KALMAN1_Q_MAX && p->p0_q16 <= SIG_KALMAN1_P0_MAX
+        && p->stable_step_q7 >= 0 && p->stable_count >= 1u
+        && p->motion_band_q7 >= 0 && p->motion_count >= 1u
+        && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0;
 }
 
 sig_status sig_chain_mcs51_init(const sig_chain_params_q *p,
-                                const SIG_MCS51_CODE uint32_t *gains, uint16_t n_gains)
+                                const SIG_MCS51_CODE uint32_t *gains, uint16_t n_gains) SIG_MCS51_REENTRANT
 {
-    sig_chain_q check;
     uint32_t e, lim, best = 0u;
     uint8_t k, d;
-    if (p == NULL || sig_chain_init_q(&check, p) != SIG_OK) return SIG_ERR_ARG;
-    if (p->a0 > SIG_CHAIN_MCS51_A0_MAX || gains == NULL || n_gains == 0u) return SIG_ERR_ARG;
-    S.gains = gains;
+    if (p == NULL || !params_ok(p) || gains == NULL || n_gains == 0u) return SIG_ERR_ARG;
+    CFG.gains = gains;
     S.a0 = (int16_t)p->a0;
     S.n = p->window;
     S.stable_step = p->stable_step_q7;
     S.stable_count = p->stable_count;
-    S.lockout_n = p->lockout_n;
+    CFG.lockout_n = p->lockout_n;
     S.motion_band = p->motion_band_q7;
     S.motion_count = p->motion_count;
     S.zero_band = p->zero_band_q7;
-    S.zero_rate = p->zero_rate_q7;
-    S.seed_first = p->seed_first;
-    S.gain_n = n_gains;
+    CFG.zero_rate = p->zero_rate_q7;
+    CFG.seed_first = p->seed_first;
+    CFG.gain_n = n_gains;
     /* floor(u * M / 2^k) == floor(u / d) for u <= lim when M = ceil(2^k / d)
      * and (lim + 1) * e <= 2^k, e = M d - 2^k (then u e / (d 2^k) < 1/d);
      * the largest lim over the k whose M fits 16 bits */
@@ -256,7 +268,7 @@ sig_status sig_chain_mcs51_init(const sig_chain_params_q *p,
             S.u_lim = (uint16_t)lim;
         }
     }
-    S.x0 = p->x0_q7;
+    CFG.x0 = p->x0_q7;
     return sig_chain_mcs51_reset();
 }
 
@@ -268,7 +280,7 @@ sig_status sig_chain_mcs51_reset(void)
     S.seeded = false;
     S.lock_run = 0u;
     S.lock_side = 0;
-    S.x = S.x0;
+    S.x = CFG.x0;
     S.kf_seeded = false;
     S.gain_i = 0u;
     S.k = 0u;
@@ -326,7 +338,7 @@ static sig_status limit_step(int32_t x, int16_t *y)
             S.lock_side = side;
             S.lock_run = 1u;
         }
-        if (S.lockout_n != 0u && S.lock_run >= S.lockout_n) {
+        if (CFG.lockout_n != 0u && S.lock_run >= CFG.lockout_n) {
             S.lock_run = 0u;
             S.lock_side = 0;
             window_reset();               /* the chain empties the window on a re-seed */
@@ -355,7 +367,7 @@ sig_status sig_chain_mcs51_step(int32_t x)
     int32_t m7, innov, inc, dz;
     int16_t y, m;
     uint16_t a;
-    bool stab, small;
+    uint8_t stab, small;
     if (x > SIG_CODE_MAX) { x = SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
     else if (x < -SIG_CODE_MAX) { x = -SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
     st = limit_step(x, &y);
@@ -367,9 +379,9 @@ sig_status sig_chain_mcs51_step(int32_t x)
     }
     m = window_step(y);
     m7 = codes_to_q7(S.base + m);
-    innov = sig_sat_sub32(m7, S.x);
+    innov = SUB_SAT(m7, S.x);
     if (S.motion_band > 0 && S.kf_seeded) {
-        if (sig_abs32_sat(innov) > S.motion_band) {
+        if (ABS_SAT(innov) > S.motion_band) {
             if (S.motion_run < 255u) S.motion_run++;
         } else {
             S.motion_run = 0u;
@@ -380,7 +392,7 @@ sig_status sig_chain_mcs51_step(int32_t x)
             S.dc = 0;
             m = window_step(0);
             m7 = codes_to_q7(S.base + m);
-            innov = sig_sat_sub32(m7, S.x);
+            innov = SUB_SAT(m7, S.x);
             S.gain_i = 0u;
             S.motion_run = 0u;
             ret = (sig_status)(ret | SIG_CHAIN_MOTION);
@@ -390,12 +402,12 @@ sig_status sig_chain_mcs51_step(int32_t x)
     /* Kalman */
     if (!S.kf_seeded) {
         S.kf_seeded = true;
-        if (S.seed_first) {
+        if (CFG.seed_first) {
             S.x = m7;
             innov = 0;
         }
     }
-    if (S.gain_i < S.gain_n) S.k = S.gains[S.gain_i++];   /* then the steady gain holds */
+    if (S.gain_i < CFG.gain_n) S.k = CFG.gains[S.gain_i++];   /* then the steady gain holds */
     small = innov > -32768 && innov < 32768;
     if (small) {
         /* |innov| < 2^15, K <= 2^30: |innov| K = hi * 2^16 + lo with two
@@ -410,11 +422,11 @@ sig_status sig_chain_mcs51_step(int32_t x)
     } else {
         inc = 0;
         dz = S.x;
-        S.x = sig_sat_add32(S.x, gain_any(innov));
-        inc = sig_sat_sub32(S.x, dz);
+        S.x = sat_add(S.x, gain_any(innov));
+        inc = SUB_SAT(S.x, dz);
     }
     /* stability: |x - previous x| <= step */
-    if (S.has_prev && sig_abs32_sat(inc) <= S.stable_step) {
+    if (S.has_prev && ABS_SAT(inc) <= S.stable_step) {
         if (S.stable_run < 255u) S.stable_run++;
     } else {
         S.stable_run = 0u;
@@ -427,15 +439,15 @@ sig_status sig_chain_mcs51_step(int32_t x)
             S.tare_pending = false;
             ret = (sig_status)(ret | SIG_CHAIN_TARED);
         } else if (S.zero_band > 0) {
-            dz = sig_sat_sub32(S.x, S.offset);
-            if (sig_abs32_sat(dz) <= S.zero_band) {
-                if (dz > S.zero_rate) dz = S.zero_rate;
-                if (dz < -S.zero_rate) dz = -S.zero_rate;
-                S.offset = sig_sat_add32(S.offset, dz);
+            dz = SUB_SAT(S.x, S.offset);
+            if (ABS_SAT(dz) <= S.zero_band) {
+                if (dz > CFG.zero_rate) dz = CFG.zero_rate;
+                if (dz < -CFG.zero_rate) dz = -CFG.zero_rate;
+                S.offset = sat_add(S.offset, dz);
             }
         }
     }
-    S.out = sig_sat_sub32(S.x, S.offset);
+    S.out = SUB_SAT(S.x, S.offset);
     S.stable = stab;
     S.has_out = true;
     return ret;

@@ -46,11 +46,13 @@
 #define SIG_MCS51_IDATA __idata
 #define SIG_MCS51_XDATA __xdata
 #define SIG_MCS51_CODE  __code
+#define SIG_MCS51_REENTRANT __reentrant   /* locals on the stack, not in direct RAM */
 #else
 #define SIG_MCS51_DATA
 #define SIG_MCS51_IDATA
 #define SIG_MCS51_XDATA
 #define SIG_MCS51_CODE
+#define SIG_MCS51_REENTRANT
 #endif
 
 #define SIG_CHAIN_MCS51_A0_MAX INT32_C(2047)
@@ -59,30 +61,39 @@ typedef struct {
     int32_t base;           /* codes: the window holds sample - base */
     int32_t sum;            /* sum of the held deviations */
     int32_t x;              /* Kalman estimate, Q24.7 */
-    int32_t x0;             /* Q24.7, the estimate after a reset */
     int32_t offset;         /* tare / zero offset, Q24.7 */
     int32_t out;            /* last output x - offset, Q24.7 */
-    int32_t zero_band, zero_rate;         /* Q24.7 */
+    int32_t zero_band;      /* Q24.7, 0 = no zero tracking */
     int32_t stable_step, motion_band;     /* Q24.7; motion_band 0 = off */
     uint32_t k;             /* gain of the current step, Q2.30 */
-    const SIG_MCS51_CODE uint32_t *gains;   /* K_0 .. K_(gain_n - 1) = steady gain */
-    uint16_t gain_i, gain_n;  /* next gain index, table length */
+    uint16_t gain_i;        /* next gain index (holds at the table's length) */
     int16_t a0;             /* codes, <= SIG_CHAIN_MCS51_A0_MAX */
     int16_t dc;             /* Dc - base (the limit's reference) */
     int16_t mx, mn;         /* extremes of the held deviations */
     uint16_t recip;         /* ceil(2^recip_shift / (N - 2)) */
     uint16_t u_lim;         /* floor(u * recip / 2^recip_shift) == floor(u / (N - 2)) for u <= u_lim */
-    uint8_t recip_shift;
+    uint8_t recip_shift;    /* 16..30 */
     uint8_t n, count, head; /* window length, samples held, next slot */
-    uint8_t lockout_n, lock_run;
+    uint8_t lock_run;
     int8_t lock_side;
     uint8_t motion_count, motion_run;
     uint8_t stable_count, stable_run;
-    bool seeded, kf_seeded, seed_first, has_prev, tare_pending, stable, has_out;
+    bool seeded, kf_seeded, has_prev, tare_pending, stable, has_out;
 } sig_chain_mcs51_state;
 
-extern SIG_MCS51_DATA sig_chain_mcs51_state sig_chain_mcs51;
-extern SIG_MCS51_IDATA int16_t sig_chain_mcs51_window[SIG_ANTIPULSE_MAX];
+/* what the steady state does not touch (xdata) */
+typedef struct {
+    int32_t x0;             /* Q24.7, the estimate after a reset */
+    int32_t zero_rate;      /* Q24.7 per sample */
+    const SIG_MCS51_CODE uint32_t *gains;   /* K_0 .. K_(gain_n - 1) = steady gain */
+    uint16_t gain_n;
+    uint8_t lockout_n;
+    bool seed_first;
+} sig_chain_mcs51_config;
+
+extern SIG_MCS51_IDATA sig_chain_mcs51_state sig_chain_mcs51;
+extern SIG_MCS51_XDATA sig_chain_mcs51_config sig_chain_mcs51_cfg;
+extern SIG_MCS51_XDATA int16_t sig_chain_mcs51_window[SIG_ANTIPULSE_MAX];
 /* The gain sequence of the fixed Kalman (q_q30, p0_q16 as sig_kalman1_init_q)
  * from a (re)start to its steady value, by the portable sig_kalman1: run
  * once on the host (its table goes into the firmware's code memory) or at
@@ -98,7 +109,7 @@ sig_status sig_chain_mcs51_gains(uint32_t q_q30, uint32_t p0_q16, uint32_t *tabl
  * SIG_ERR_ARG (nothing changed) for parameters sig_chain_init_q rejects,
  * A0 above SIG_CHAIN_MCS51_A0_MAX, a NULL table or n_gains == 0. */
 sig_status sig_chain_mcs51_init(const sig_chain_params_q *p,
-                                const SIG_MCS51_CODE uint32_t *gains, uint16_t n_gains);
+                                const SIG_MCS51_CODE uint32_t *gains, uint16_t n_gains) SIG_MCS51_REENTRANT;
 sig_status sig_chain_mcs51_reset(void);
 
 /* One sample: the status of sig_chain_step_q; output and stability flag in
