@@ -70,9 +70,12 @@ typedef struct {
     int16_t a0;             /* codes, <= SIG_CHAIN_MCS51_A0_MAX */
     int16_t dc;             /* Dc - base (the limit's reference) */
     int16_t mx, mn;         /* extremes of the held deviations */
+    int32_t base7;          /* base in Q24.7 */
+    int16_t stable_step16, motion_band16;   /* min(., 32767): the fast path's int16 tests */
     uint16_t recip;         /* ceil(2^recip_shift / (N - 2)) */
     uint16_t u_lim;         /* floor(u * recip / 2^recip_shift) == floor(u / (N - 2)) for u <= u_lim */
     uint8_t recip_shift;    /* 16..30 */
+    uint8_t half;           /* (N - 2) / 2: the rounding of the trimmed mean */
     uint8_t n, count, head; /* window length, samples held, next slot */
     uint8_t lock_run;
     int8_t lock_side;
