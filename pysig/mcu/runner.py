@@ -188,7 +188,10 @@ def build_msp430(sources, harness, defines=(), *, hwmult=True, name=None,
     objs = []
     for s in [harness, *sources]:       # harness and code under test: separate units, no LTO
         o = outdir / (s.stem + ".o")
-        _run([clang, *MSP430_CFLAGS, *hw, *dflags, *inc, "-c", s, "-o", o])
+        if s.suffix == ".S":            # port-layer assembly: preprocessed, warnings as errors
+            _run([clang, "--target=msp430", "-Werror", *dflags, *inc, "-c", s, "-o", o])
+        else:
+            _run([clang, *MSP430_CFLAGS, *hw, *dflags, *inc, "-c", s, "-o", o])
         objs.append(o)
     elf = outdir / f"{name}.elf"
     link = [lld, "-T", MCU_DIR / "msp430" / "msp430f5510.ld", "--gc-sections",
