@@ -1,0 +1,122 @@
+/* sig_pwl_msp430.S - sig_pwl_eval_q16 (csrc/tcomp/sig_pwl.c) in MSP430
+ * assembly for tables whose position mapping needs one 16x16 product:
+ * recip = rh * 2^16 (low word 0), i.e. knots 2^16 / rh temperature units
+ * apart - with rh a power of two, a power-of-two knot spacing, the segment
+ * index a shift done by the multiplier.  Any other recip is handed to the
+ * portable sig_pwl_eval_q16 (same arguments).  Same results bit for bit
+ * (tests/test_mcu_port.py, bench/mcu_cost.py: every output and status
+ * against the host C in mspdebug's simulator).
+ *
+ *   sig_status sig_pwl_eval_msp430(const sig_pwl_q16 *p, int16_t t, int32_t *out_q16);
+ *   R12 p, R13 t, R14 out -> R12 status
+ *
+ *   d = clamp(t) - t_lo; d * rh on the multiplier: RESHI = segment,
+ *   RESLO = position fraction (Q16); frac = RESLO >> 4 (Q12);
+ *   acc = lo * (4096 - frac) + hi * frac   (MPYS + MACS, = lo 2^12 + (hi - lo) frac)
+ *   out = acc scaled by 2^(4 - value_frac) (arithmetic shifts: floor).
+ * Offsets of sig_pwl_q16 are checked in sig_pwl_msp430.h.  MPY_BASE as in
+ * sig_tcomp16_msp430.S; interrupts must not use the multiplier meanwhile. */
+#ifndef MPY_BASE
+#define MPY_BASE 0x04C0
+#endif
+    .set MPY,   MPY_BASE + 0x0
+    .set MPYS,  MPY_BASE + 0x2
+    .set MACS,  MPY_BASE + 0x6
+    .set OP2,   MPY_BASE + 0x8
+    .set RESLO, MPY_BASE + 0xA
+    .set RESHI, MPY_BASE + 0xC
+#define TABLE   0
+#define RECIP_LO 2
+#define RECIP_HI 4
+#define T_LO    6
+#define T_HI    8
+#define N_KNOTS 12
+#define VFRAC   13
+
+    .section .text.sig_pwl_eval_msp430,"ax",@progbits
+    .global sig_pwl_eval_msp430
+    .type   sig_pwl_eval_msp430,@function
+    .p2align 1
+sig_pwl_eval_msp430:
+    tst     r12
+    jeq     .Lerr
+    tst     r14
+    jeq     .Lerr
+    mov     TABLE(r12), r15
+    tst     r15
+    jeq     .Lerr
+    tst     RECIP_LO(r12)
+    jne     .Lportable
+    push    r10
+    clr     r11                     ; status
+    cmp     T_LO(r12), r13
+    jl      .Lbelow
+    cmp     r13, T_HI(r12)
+    jl      .Labove
+.Lclamped:
+    sub     T_LO(r12), r13          ; d
+    mov     r13, &MPY
+    mov     RECIP_HI(r12), &OP2
+    mov     &RESHI, r13             ; segment
+    mov     &RESLO, r10             ; fraction, Q16
+    inc     r13
+    cmp.b   N_KNOTS(r12), r13       ; segment + 1 >= n_knots: on the last knot
+    jhs     .Llast
+    rla     r13
+    add     r13, r15                ; &table[segment + 1]
+    clrc
+    rrc     r10
+    rra     r10
+    rra     r10
+    rra     r10                     ; frac, Q12
+    mov     -2(r15), &MPYS          ; lo * (4096 - frac)
+    mov     #4096, r13
+    sub     r10, r13
+    mov     r13, &OP2
+    mov     @r15, &MACS             ; + hi * frac
+    mov     r10, &OP2
+.Lscale:
+    mov     &RESLO, r13
+    mov     &RESHI, r15             ; acc, value_frac + 12 fraction bits
+    mov.b   VFRAC(r12), r10
+    sub     #4, r10
+    jeq     .Lstore
+    jl      .Lleft
+.Lright:                            ; floor(acc / 2^(value_frac - 4))
+    rra     r15
+    rrc     r13
+    dec     r10
+    jnz     .Lright
+.Lstore:
+    mov     r13, 0(r14)
+    mov     r15, 2(r14)
+    mov     r11, r12
+    pop     r10
+    ret
+.Lleft:                             ; acc * 2^(4 - value_frac), exact
+    rla     r13
+    rlc     r15
+    inc     r10
+    jnz     .Lleft
+    jmp     .Lstore
+.Llast:                             ; acc = table[n_knots - 1] * 2^12
+    mov.b   N_KNOTS(r12), r13
+    rla     r13
+    add     r13, r15
+    mov     -2(r15), &MPYS
+    mov     #4096, &OP2
+    jmp     .Lscale
+.Lbelow:
+    mov     T_LO(r12), r13
+    mov     #1, r11
+    jmp     .Lclamped
+.Labove:
+    mov     T_HI(r12), r13
+    mov     #1, r11
+    jmp     .Lclamped
+.Lportable:
+    br      #sig_pwl_eval_q16
+.Lerr:
+    mov     #-1, r12
+    ret
+    .size   sig_pwl_eval_msp430, .-sig_pwl_eval_msp430
