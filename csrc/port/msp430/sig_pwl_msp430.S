@@ -120,3 +120,140 @@ sig_pwl_eval_msp430:
     mov     #-1, r12
     ret
     .size   sig_pwl_eval_msp430, .-sig_pwl_eval_msp430
+
+/* sig_status sig_pwl_eval_axes_msp430(const sig_pwl_q16 *p, uint8_t n_axes,
+ *                                     int16_t t, int32_t *out_q16);
+ *   R12 p[0..n_axes-1], R13 n_axes, R14 t, R15 out[0..n_axes-1] -> R12
+ * The tables of one coefficient image (sig_pwl_load_image: the same knots,
+ * range and recip for every axis, own table and value_frac): the clamp, the
+ * segment and the fraction once, then per axis one MPYS + MACS and the
+ * scaling.  out[a] == sig_pwl_eval_q16(&p[a], t) for every axis; the
+ * status is theirs (SIG_WARN_CLAMPED or SIG_OK).  SIG_ERR_ARG for NULL
+ * pointers or n_axes == 0 (a NULL table stops at that axis, the earlier
+ * outputs written).  When p[0].recip has a non-zero low word every axis
+ * goes through the portable sig_pwl_eval_q16.  The shared fields of
+ * p[1..] are not read: they must equal p[0]'s. */
+#define PWL_SIZE 14
+    .section .text.sig_pwl_eval_axes_msp430,"ax",@progbits
+    .global sig_pwl_eval_axes_msp430
+    .type   sig_pwl_eval_axes_msp430,@function
+    .p2align 1
+sig_pwl_eval_axes_msp430:
+    tst     r12
+    jeq     .Laerr
+    tst     r15
+    jeq     .Laerr
+    and     #0xFF, r13
+    jeq     .Laerr
+    push    r10
+    push    r9
+    push    r8
+    push    r7
+    push    r6
+    mov     r13, r7                 ; axes left
+    tst     RECIP_LO(r12)
+    jne     .Laportable
+    clr     r11
+    cmp     T_LO(r12), r14
+    jl      .Labelow
+    cmp     r14, T_HI(r12)
+    jl      .Laabove
+.Laclamped:
+    sub     T_LO(r12), r14          ; d
+    mov     r14, &MPY
+    mov     RECIP_HI(r12), &OP2
+    mov     &RESHI, r9              ; segment
+    mov     &RESLO, r10             ; fraction, Q16
+    inc     r9
+    cmp.b   N_KNOTS(r12), r9
+    jhs     .Lalast
+    rla     r9                      ; byte offset of table[segment + 1]
+    clrc
+    rrc     r10
+    rra     r10
+    rra     r10
+    rra     r10                     ; frac, Q12
+    mov     #4096, r8
+    sub     r10, r8                 ; 4096 - frac
+.Laxis_loop:
+    mov     @r12, r6                ; this axis' table
+    tst     r6
+    jeq     .Lanull
+    add     r9, r6
+    mov     -2(r6), &MPYS           ; lo * (4096 - frac)
+    mov     r8, &OP2
+    mov     @r6, &MACS              ; + hi * frac
+    mov     r10, &OP2
+    mov     &RESLO, r13
+    mov     &RESHI, r14
+    mov.b   VFRAC(r12), r6
+    sub     #4, r6
+    jeq     .Lastore
+    jl      .Laleft
+.Laright:
+    rra     r14
+    rrc     r13
+    dec     r6
+    jnz     .Laright
+.Lastore:
+    mov     r13, 0(r15)
+    mov     r14, 2(r15)
+    add     #4, r15
+    add     #PWL_SIZE, r12
+    dec     r7
+    jnz     .Laxis_loop
+    mov     r11, r12
+.Lapop:
+    pop     r6
+    pop     r7
+    pop     r8
+    pop     r9
+    pop     r10
+    ret
+.Laleft:
+    rla     r13
+    rlc     r14
+    inc     r6
+    jnz     .Laleft
+    jmp     .Lastore
+.Lalast:                            ; on the last knot: hi = table[n - 1], frac = 1
+    mov.b   N_KNOTS(r12), r9
+    dec     r9
+    rla     r9
+    mov     #4096, r10
+    clr     r8
+    jmp     .Laxis_loop
+.Labelow:
+    mov     T_LO(r12), r14
+    mov     #1, r11
+    jmp     .Laclamped
+.Laabove:
+    mov     T_HI(r12), r14
+    mov     #1, r11
+    jmp     .Laclamped
+.Lanull:
+    mov     #-1, r12
+    jmp     .Lapop
+.Laportable:                        ; axis by axis through the C (status: OR)
+    mov     r12, r8
+    mov     r14, r9
+    mov     r15, r10
+    clr     r6
+.Laport_loop:
+    mov     r8, r12
+    mov     r9, r13
+    mov     r10, r14
+    call    #sig_pwl_eval_q16
+    tst     r12
+    jl      .Lapop
+    bis     r12, r6
+    add     #PWL_SIZE, r8
+    add     #4, r10
+    dec     r7
+    jnz     .Laport_loop
+    mov     r6, r12
+    jmp     .Lapop
+.Laerr:
+    mov     #-1, r12
+    ret
+    .size   sig_pwl_eval_axes_msp430, .-sig_pwl_eval_axes_msp430
