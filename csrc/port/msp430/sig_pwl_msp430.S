@@ -190,11 +190,17 @@ sig_pwl_eval_axes_msp430:
     sub     #4, r6
     jeq     .Lastore
     jl      .Laleft
-.Laright:
+    rla     r6                      ; floor(acc / 2^k), k = value_frac - 4 = 1..11:
+    rla     r6                      ; enter the unrolled shifts k pairs (4 bytes each)
+    inv     r6                      ; before their end
+    inc     r6
+    add     #.Laright_end, r6
+    br      r6
+    .rept   11
     rra     r14
     rrc     r13
-    dec     r6
-    jnz     .Laright
+    .endr
+.Laright_end:
 .Lastore:
     mov     r13, 0(r15)
     mov     r14, 2(r15)
