@@ -5,9 +5,10 @@
  * samples, the Kalman gain table in code memory), runs the batch between
  * bench_start/bench_stop storing every output, stability flag and status,
  * then makes ONE more direct call of the step on the settled chain (the
- * steady-state step: the runner counts it from entry to return), feeds the
- * motion sample once, and makes the motion-restart step inside
- * restart_step() (counted the same way, as its call there). */
+ * steady-state step: the runner counts it from entry to return), feeds
+ * CH_RESTART_PRE samples of a new level, and makes the step on which the
+ * chain detects the motion and restarts inside restart_step() (counted the
+ * same way, as its call there). */
 #include <stdint.h>
 #include <stdbool.h>
 #include "chain_vectors.h"
@@ -43,11 +44,12 @@ NOINLINE void restart_step(void)
 
 int main(void)
 {
+    uint8_t i;
     init_status = sig_chain_mcs51_init(&params, ch_gains, CH_N_GAINS);
     run_batch();
     one_status = sig_chain_mcs51_step(CH_ONE_X_Q);
     one_out = sig_chain_mcs51.out;
-    pre_status = sig_chain_mcs51_step(CH_RESTART_X);
+    for (i = 0; i < CH_RESTART_PRE; i++) pre_status = sig_chain_mcs51_step(CH_RESTART_X);
     restart_step();
     bench_done();
     return 0;
