@@ -389,7 +389,8 @@ static sig_status step_fast(int32_t x)
     uint16_t a, u;
     uint8_t motion_run = 0u, stab;
     if (S.count != S.n || !S.kf_seeded) return 0;
-    t = x - S.base;                       /* |x| > 2^24 lands far outside too */
+    if (x > SIG_CODE_MAX || x < -SIG_CODE_MAX) return 0;   /* clamped: the general step */
+    t = x - S.base;
     if (t < -DEV_MAX || t > DEV_MAX) return 0;
     y = (int16_t)t;
     dd = (int16_t)(y - S.dc);

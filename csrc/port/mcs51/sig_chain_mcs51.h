@@ -29,7 +29,8 @@
  * codes) re-bases the window, and if even that cannot hold it returns
  * SIG_ERR_ARG with the state unchanged.  The spread of the window stays
  * within a few A0 (every accepted sample is within A0 of the trimmed mean),
- * so init accepts A0 <= 2047 codes.
+ * so init accepts A0 <= 8191 codes (a quarter of the int16 range; the
+ * bit-exactness tests draw A0 up to it).
  *
  * A further stage (e.g. an on-line noise estimate fed by the window's
  * deviations or the innovation) fits as one more block in
@@ -55,7 +56,7 @@
 #define SIG_MCS51_REENTRANT
 #endif
 
-#define SIG_CHAIN_MCS51_A0_MAX INT32_C(2047)
+#define SIG_CHAIN_MCS51_A0_MAX INT32_C(8191)
 
 typedef struct {
     int32_t base;           /* codes: the window holds sample - base */
