@@ -73,6 +73,7 @@ def chain_cases(draw):
     r = draw(st.sampled_from([1e-6, 1e-5, 1e-4, 1e-3]))
     ov = dict(window=draw(st.integers(3, 32)), R=r,
               Q=r * draw(st.sampled_from([1e-4, 1e-3, 1e-2, 0.1])),     # q = Q/R <= 1
+              P0=r * draw(st.sampled_from([1.0, 100.0, 1e4])),          # P0/R <= 16384
               stable_count=draw(st.integers(1, 6)),
               lockout_n=draw(st.sampled_from([0, 1, 2, 3, 8])),
               motion_count=draw(st.integers(1, 4)))

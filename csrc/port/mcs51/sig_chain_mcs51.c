@@ -377,108 +377,14 @@ static int32_t dev_to_q7(int16_t m)
                   : -(int32_t)((uint32_t)(uint16_t)-m << 7);
 }
 
-/* One step of the common case, in int16 where the values allow: window
- * full, the sample accepted and within the deviation range, no extreme
- * evicted, the trimmed sum within the reciprocal's range, |innovation| <
- * 2^15, no motion restart.  Returns 0, having changed nothing, when any of
- * these fails (the general step then runs); else 1 + its status. */
-static sig_status step_fast(int32_t x)
-{
-    int32_t t, m7, innov;
-    int16_t y, old, mx, mn, m, inc, dd;
-    uint16_t a, u;
-    uint8_t motion_run = 0u, stab;
-    if (S.count != S.n || !S.kf_seeded) return 0;
-    if (x > SIG_CODE_MAX || x < -SIG_CODE_MAX) return 0;   /* clamped: the general step */
-    t = x - S.base;
-    if (t < -DEV_MAX || t > DEV_MAX) return 0;
-    y = (int16_t)t;
-    dd = (int16_t)(y - S.dc);
-    if (dd > S.a0 || dd < -S.a0) return 0;
-    old = WIN[S.head];
-    mx = S.mx;
-    mn = S.mn;
-    if (old == mx || old == mn) return 0;
-    if (y > mx) mx = y;
-    if (y < mn) mn = y;
-    t = S.sum + (y - old);                /* int16 difference: both within +-DEV_MAX */
-    t = t - mx - mn + S.half;
-    if (t >= 0) {
-        if (t > (int32_t)S.u_lim) return 0;
-        mul_a = (uint16_t)t;
-        mul_b = S.recip; mul16();
-        m = (int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));
-    } else {
-        t = -t + (int32_t)(S.n - 3u);     /* floor(t / d) = -floor((-t + d - 1) / d) */
-        if (t > (int32_t)S.u_lim) return 0;
-        mul_a = (uint16_t)t;
-        mul_b = S.recip; mul16();
-        m = (int16_t)-(int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));
-    }
-    m7 = S.base7 + dev_to_q7(m);
-    innov = m7 - S.x;                     /* |m7|, |x| < 2^31 - 2^7; same sign checked below */
-    if (((m7 ^ S.x) < 0) || innov <= -32768 || innov >= 32768) return 0;
-    a = (uint16_t)(innov < 0 ? -innov : innov);
-    if (S.motion_band > 0) {
-        if ((int16_t)a > S.motion_band16) {
-            motion_run = (uint8_t)(S.motion_run + 1u);
-            if (motion_run >= S.motion_count) return 0;
-        }
-    }
-    /* commit: limit, window */
-    S.lock_run = 0u;
-    S.lock_side = 0;
-    WIN[S.head] = y;
-    if (++S.head >= S.n) S.head = 0u;
-    S.mx = mx;
-    S.mn = mn;
-    S.sum += y - old;
-    S.motion_run = motion_run;
-    S.dc = m;
-    /* Kalman: |innov| K / 2^30 rounded half up, two 16x16 products */
-    if (S.gain_i < CFG.gain_n) S.k = CFG.gains[S.gain_i++];
-    mul_a = a;
-    mul_b = (uint16_t)S.k; mul16();
-    u = (uint16_t)((mul_r + Q30_HALF) >> 16);
-    mul_b = (uint16_t)(S.k >> 16); mul16();
-    inc = (int16_t)((mul_r + u) >> 14);    /* <= |innov| < 2^15 */
-    if (innov < 0) inc = (int16_t)-inc;
-    S.x += inc;
-    /* stability */
-    if ((inc < 0 ? -inc : inc) <= S.stable_step16) {
-        if (S.stable_run < 255u) S.stable_run++;
-    } else {
-        S.stable_run = 0u;
-    }
-    stab = S.stable_run >= S.stable_count;
-    if (stab && !S.tare_pending && S.zero_band > 0) {
-        t = SUB_SAT(S.x, S.offset);
-        if (ABS_SAT(t) <= S.zero_band) {
-            if (t > CFG.zero_rate) t = CFG.zero_rate;
-            if (t < -CFG.zero_rate) t = -CFG.zero_rate;
-            S.offset = sat_add(S.offset, t);
-        }
-    } else if (stab && S.tare_pending) {
-        S.offset = S.x;
-        S.tare_pending = false;
-        S.out = SUB_SAT(S.x, S.offset);
-        S.stable = true;
-        return (sig_status)(1 + SIG_CHAIN_TARED);
-    }
-    S.out = SUB_SAT(S.x, S.offset);
-    S.stable = stab;
-    return 1;
-}
-
-sig_status sig_chain_mcs51_step(int32_t x)
+/* Any step: the portable chain's stages in order, on the deviation window. */
+static sig_status step_general(int32_t x)
 {
     sig_status ret = SIG_OK, st;
     int32_t m7, innov, inc, dz;
     int16_t y, m;
     uint16_t a;
     uint8_t stab, small;
-    st = step_fast(x);
-    if (st > 0) return (sig_status)(st - 1);
     if (x > SIG_CODE_MAX) { x = SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
     else if (x < -SIG_CODE_MAX) { x = -SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
     st = limit_step(x, &y);
@@ -563,4 +469,97 @@ sig_status sig_chain_mcs51_step(int32_t x)
     S.stable = stab;
     S.has_out = true;
     return ret;
+}
+
+/* One sample.  The common case runs here, in int16 where the values
+ * allow: window full, the sample accepted and within the deviation range, no
+ * extreme evicted, the trimmed sum within the reciprocal's range,
+ * |innovation| < 2^15, no motion restart.  When any of these fails, before
+ * anything has changed, the general step runs instead. */
+sig_status sig_chain_mcs51_step(int32_t x)
+{
+    int32_t t, m7, innov;
+    int16_t y, old, mx, mn, m, inc, dd;
+    uint16_t a, u;
+    uint8_t motion_run = 0u, stab;
+    if (S.count != S.n || !S.kf_seeded) return step_general(x);
+    if (x > SIG_CODE_MAX || x < -SIG_CODE_MAX) return step_general(x);   /* clamped: the general step */
+    t = x - S.base;
+    if (t < -DEV_MAX || t > DEV_MAX) return step_general(x);
+    y = (int16_t)t;
+    dd = (int16_t)(y - S.dc);
+    if (dd > S.a0 || dd < -S.a0) return step_general(x);
+    old = WIN[S.head];
+    mx = S.mx;
+    mn = S.mn;
+    if (old == mx || old == mn) return step_general(x);
+    if (y > mx) mx = y;
+    if (y < mn) mn = y;
+    t = S.sum + (y - old);                /* int16 difference: both within +-DEV_MAX */
+    t = t - mx - mn + S.half;
+    if (t >= 0) {
+        if (t > (int32_t)S.u_lim) return step_general(x);
+        mul_a = (uint16_t)t;
+        mul_b = S.recip; mul16();
+        m = (int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));
+    } else {
+        t = -t + (int32_t)(S.n - 3u);     /* floor(t / d) = -floor((-t + d - 1) / d) */
+        if (t > (int32_t)S.u_lim) return step_general(x);
+        mul_a = (uint16_t)t;
+        mul_b = S.recip; mul16();
+        m = (int16_t)-(int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));
+    }
+    m7 = S.base7 + dev_to_q7(m);
+    innov = m7 - S.x;                     /* |m7|, |x| < 2^31 - 2^7; same sign checked below */
+    if (((m7 ^ S.x) < 0) || innov <= -32768 || innov >= 32768) return step_general(x);
+    a = (uint16_t)(innov < 0 ? -innov : innov);
+    if (S.motion_band > 0) {
+        if ((int16_t)a > S.motion_band16) {
+            motion_run = (uint8_t)(S.motion_run + 1u);
+            if (motion_run >= S.motion_count) return step_general(x);
+        }
+    }
+    /* commit: limit, window */
+    S.lock_run = 0u;
+    S.lock_side = 0;
+    WIN[S.head] = y;
+    if (++S.head >= S.n) S.head = 0u;
+    S.mx = mx;
+    S.mn = mn;
+    S.sum += y - old;
+    S.motion_run = motion_run;
+    S.dc = m;
+    /* Kalman: |innov| K / 2^30 rounded half up, two 16x16 products */
+    if (S.gain_i < CFG.gain_n) S.k = CFG.gains[S.gain_i++];
+    mul_a = a;
+    mul_b = (uint16_t)S.k; mul16();
+    u = (uint16_t)((mul_r + Q30_HALF) >> 16);
+    mul_b = (uint16_t)(S.k >> 16); mul16();
+    inc = (int16_t)((mul_r + u) >> 14);    /* <= |innov| < 2^15 */
+    if (innov < 0) inc = (int16_t)-inc;
+    S.x += inc;
+    /* stability */
+    if ((inc < 0 ? -inc : inc) <= S.stable_step16) {
+        if (S.stable_run < 255u) S.stable_run++;
+    } else {
+        S.stable_run = 0u;
+    }
+    stab = S.stable_run >= S.stable_count;
+    if (stab && !S.tare_pending && S.zero_band > 0) {
+        t = SUB_SAT(S.x, S.offset);
+        if (ABS_SAT(t) <= S.zero_band) {
+            if (t > CFG.zero_rate) t = CFG.zero_rate;
+            if (t < -CFG.zero_rate) t = -CFG.zero_rate;
+            S.offset = sat_add(S.offset, t);
+        }
+    } else if (stab && S.tare_pending) {
+        S.offset = S.x;
+        S.tare_pending = false;
+        S.out = SUB_SAT(S.x, S.offset);
+        S.stable = true;
+        return SIG_CHAIN_TARED;
+    }
+    S.out = SUB_SAT(S.x, S.offset);
+    S.stable = stab;
+    return SIG_OK;
 }
