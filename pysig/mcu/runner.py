@@ -567,6 +567,52 @@ def _mcs51_code_labels(img: Image) -> list:
     return sorted(labels.items())
 
 
+def _mcs51_code_lines(img: Image) -> dict:
+    """address -> "file.c:line" of every instruction sdcc listed under a C
+    source comment in the .rst listings (runtime libraries have none)."""
+    where = {}
+    src = re.compile(r";\s+(\S+\.c):(\d+):")
+    ins = re.compile(r"^\s+([0-9A-F]{6}) ([0-9A-F]{2} )+")
+    for rst in img.path.parent.glob("*.rst"):
+        loc = None
+        for line in open(rst):
+            m = src.search(line)
+            if m:
+                loc = f"{Path(m.group(1)).name}:{m.group(2)}"
+                continue
+            m = ins.match(line)
+            if m and loc:
+                where[int(m.group(1), 16)] = loc
+    return where
+
+
+def profile_lines_mcs51(img: Image, func: str, n_instructions: int) -> list[dict]:
+    """As profile() for an 8051 image, per C source line: 12T clocks and
+    instructions of one call, each instruction attributed to the source
+    comment sdcc put above it (library routines by name)."""
+    import bisect
+    timing = _timing()
+    entry = img.symbols["_" + func.split("@")[0]][1]
+    site, _ = _mcs51_call_site(img, func)
+    to_entry = [f"break {site:#x}", "run", "delete", f"break {entry:#x}", "run"]
+    out = _mcs51_history(img, to_entry, n_instructions, cpu="C52")
+    where = _mcs51_code_lines(img)
+    labels = _mcs51_code_labels(img)
+    starts = [a for a, _ in labels]
+    rows = {}
+    for seg in re.split(r"^Host usage:.*$", out, flags=re.M)[1:]:
+        for m in timing._HIST_LINE.finditer(seg.split("Stop at")[0]):
+            pc, op = int(m.group(1), 16), int(m.group(2).split()[0], 16)
+            loc = where.get(pc)
+            if loc is None:
+                i = bisect.bisect_right(starts, pc) - 1
+                loc = labels[i][1][1:] if i >= 0 else f"{pc:#x}"
+            r = rows.setdefault(loc, {"line": loc, "instructions": 0, "clocks_12T": 0})
+            r["instructions"] += 1
+            r["clocks_12T"] += 12 * timing.classic_machine_cycles(op)
+    return sorted(rows.values(), key=lambda r: -r["clocks_12T"])
+
+
 def _profile_mcs51(img, func, n_instructions, cpu="C52"):
     import bisect
     timing = _timing()

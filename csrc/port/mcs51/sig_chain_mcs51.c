@@ -136,6 +136,22 @@ static int32_t codes_to_q7(int32_t m)
     return m >= 0 ? (int32_t)((uint32_t)m << 7) : -(int32_t)((uint32_t)-m << 7);
 }
 
+/* |v| < 2^30 */
+static bool fits30(int32_t v)
+{
+    return v > -INT32_C(0x40000000) && v < INT32_C(0x40000000);
+}
+
+/* The fast path's range: x - offset and m7 - x cannot overflow, and every
+ * value the fast step makes stays inside (x between x and m7, the offset
+ * moving towards x): |x|, |offset| < 2^30, |base7| < 2^30 - 2^22 (a
+ * deviation in Q24.7 is below 2^21). */
+static void update_small(void)
+{
+    S.small = fits30(S.x) && fits30(S.offset) && S.base7 > -INT32_C(0x3FC00000)
+        && S.base7 < INT32_C(0x3FC00000);
+}
+
 static void window_reset(void)
 {
     S.count = 0u;
@@ -297,6 +313,7 @@ sig_status sig_chain_mcs51_reset(void)
     S.tare_pending = false;
     S.stable = false;
     S.has_out = false;
+    update_small();
     return SIG_OK;
 }
 
@@ -306,6 +323,7 @@ sig_status sig_chain_mcs51_tare(void)
         S.offset = S.x;
         S.out = 0;
         S.tare_pending = false;
+        update_small();
         return SIG_CHAIN_TARED;
     }
     S.tare_pending = true;
@@ -468,6 +486,7 @@ static sig_status step_general(int32_t x)
     S.out = SUB_SAT(S.x, S.offset);
     S.stable = stab;
     S.has_out = true;
+    update_small();
     return ret;
 }
 
@@ -478,11 +497,11 @@ static sig_status step_general(int32_t x)
  * anything has changed, the general step runs instead. */
 sig_status sig_chain_mcs51_step(int32_t x)
 {
-    int32_t t, m7, innov;
+    int32_t t, m7, innov, dz;
     int16_t y, old, mx, mn, m, inc, dd;
     uint16_t a, u;
     uint8_t motion_run = 0u, stab;
-    if (S.count != S.n || !S.kf_seeded) return step_general(x);
+    if (S.count != S.n || !S.kf_seeded || !S.small) return step_general(x);
     if (x > SIG_CODE_MAX || x < -SIG_CODE_MAX) return step_general(x);   /* clamped: the general step */
     t = x - S.base;
     if (t < -DEV_MAX || t > DEV_MAX) return step_general(x);
@@ -510,8 +529,8 @@ sig_status sig_chain_mcs51_step(int32_t x)
         m = (int16_t)-(int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));
     }
     m7 = S.base7 + dev_to_q7(m);
-    innov = m7 - S.x;                     /* |m7|, |x| < 2^31 - 2^7; same sign checked below */
-    if (((m7 ^ S.x) < 0) || innov <= -32768 || innov >= 32768) return step_general(x);
+    innov = m7 - S.x;                     /* |m7|, |x| < 2^30 (S.small): exact */
+    if (innov <= -32768 || innov >= 32768) return step_general(x);
     a = (uint16_t)(innov < 0 ? -innov : innov);
     if (S.motion_band > 0) {
         if ((int16_t)a > S.motion_band16) {
@@ -537,7 +556,7 @@ sig_status sig_chain_mcs51_step(int32_t x)
     mul_b = (uint16_t)(S.k >> 16); mul16();
     inc = (int16_t)((mul_r + u) >> 14);    /* <= |innov| < 2^15 */
     if (innov < 0) inc = (int16_t)-inc;
-    S.x += inc;
+    S.x += inc;                           /* between x and m7: |x| stays < 2^30 */
     /* stability */
     if ((inc < 0 ? -inc : inc) <= S.stable_step16) {
         if (S.stable_run < 255u) S.stable_run++;
@@ -545,21 +564,23 @@ sig_status sig_chain_mcs51_step(int32_t x)
         S.stable_run = 0u;
     }
     stab = S.stable_run >= S.stable_count;
-    if (stab && !S.tare_pending && S.zero_band > 0) {
-        t = SUB_SAT(S.x, S.offset);
-        if (ABS_SAT(t) <= S.zero_band) {
-            if (t > CFG.zero_rate) t = CFG.zero_rate;
-            if (t < -CFG.zero_rate) t = -CFG.zero_rate;
-            S.offset = sat_add(S.offset, t);
-        }
-    } else if (stab && S.tare_pending) {
-        S.offset = S.x;
-        S.tare_pending = false;
-        S.out = SUB_SAT(S.x, S.offset);
-        S.stable = true;
-        return SIG_CHAIN_TARED;
-    }
-    S.out = SUB_SAT(S.x, S.offset);
     S.stable = stab;
+    /* output: x - offset, exact while |x|, |offset| < 2^30: out + inc */
+    t = S.out + inc;
+    if (stab) {
+        if (S.tare_pending) {
+            S.offset = S.x;
+            S.tare_pending = false;
+            S.out = 0;
+            return SIG_CHAIN_TARED;
+        }
+        if (S.zero_band > 0 && (t < 0 ? -t : t) <= S.zero_band) {
+            /* offset moves towards x (stays within 2^30), out by the same */
+            dz = t > CFG.zero_rate ? CFG.zero_rate : t < -CFG.zero_rate ? -CFG.zero_rate : t;
+            S.offset += dz;
+            t -= dz;
+        }
+    }
+    S.out = t;
     return SIG_OK;
 }

@@ -83,6 +83,7 @@ typedef struct {
     uint8_t motion_count, motion_run;
     uint8_t stable_count, stable_run;
     bool seeded, kf_seeded, has_prev, tare_pending, stable, has_out;
+    bool small;             /* |x|, |offset| < 2^30, |base7| < 2^30 - 2^22: the fast path's range */
 } sig_chain_mcs51_state;
 
 /* what the steady state does not touch (xdata) */
