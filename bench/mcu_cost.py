@@ -716,12 +716,17 @@ def targets(t1, t2, a, t1b=()):
         img, n = _IMAGES[("chain", "fixed", "mcs51-port")]
         prof = runner.profile(img, "sig_chain_mcs51_step", n)
         profiles["sig_chain_mcs51_step 8051 steady state"] = prof
+        lines = runner.profile_lines_mcs51(img, "sig_chain_mcs51_step", n)
+        profiles["sig_chain_mcs51_step 8051 steady state, by source line"] = lines
         profiles["sig_chain_mcs51_step what remains"] = WHAT_3000_TAKES
         print("  where the port's steady-state step's 12T clocks go (s51 history, exclusive per "
               "function; mul16 = the MUL AB 16x16 product):")
         for p in prof:
             print(f"    {p['function']:<24} {p['clocks_12T']:>7} clk12T {p['clocks_1t_stc_y5']:>6} "
                   f"clk1T {p['instructions']:>6} instr {p['calls']:>3} calls")
+        print("  ... by C source line (csrc/port/mcs51/sig_chain_mcs51.c as built):")
+        for p in lines[:15]:
+            print(f"    {p['line']:<26} {p['clocks_12T']:>6} clk12T {p['instructions']:>5} instr")
         print("  what 3000 would take: " + WHAT_3000_TAKES)
     if c51 and not any(c["target"].endswith("(portable C)") and c["met"] for c in checks) \
             and ("chain", "fixed", "mcs51") in _IMAGES:
