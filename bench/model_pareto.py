@@ -30,6 +30,8 @@ last one; beyond the last knot the table is flat), the layout the MSP430
 assembly lookup of csrc/port/msp430/sig_pwl_msp430.S indexes with one
 product: cycles of sig_pwl_eval_axes_msp430 (the three axes of one image per
 call) divided by 3, checked bit for bit against the host C sig_pwl_eval_q16.
+Its entries are stored with at most 4 fraction bits (1/16 LSB: value_frac 4
+needs no output shift; the extra rounding is below 1/32 LSB).
 Its size is the grid's own knot count (the requested count rounded up to
 the next power-of-two spacing).
 
@@ -170,6 +172,9 @@ def pwl2_models(curve, n_req, scale=TEMP_UNITS_PER_C):
     for a in curve.names:
         f = pwl2_fitter(n_req, scale)(curve.temp, curve.axis(a))
         table, vf = quantize_values(f.values, what=f"{a} power-of-two table")
+        if vf > 4:      # 1/16 LSB steps are plenty, and value_frac 4 needs no output shift
+            vf = 4
+            table = np.round(np.asarray(f.values) * 16).astype(np.int16)
         tabs.append(PwlQ16(table=table, t_lo=t_lo, t_hi=t_lo + (n - 1) * (1 << shift),
                            recip=1 << (32 - shift), value_frac=vf, units_per_c=float(scale),
                            rms=0.0))
