@@ -388,13 +388,6 @@ static sig_status limit_step(int32_t x, int16_t *y)
 
 
 /* ---- the steady state --------------------------------------------------------- */
-/* Q24.7 of an int16 deviation: m * 128 without shifting a negative value */
-static int32_t dev_to_q7(int16_t m)
-{
-    return m >= 0 ? (int32_t)((uint32_t)(uint16_t)m << 7)
-                  : -(int32_t)((uint32_t)(uint16_t)-m << 7);
-}
-
 /* Any step: the portable chain's stages in order, on the deviation window. */
 static sig_status step_general(int32_t x)
 {
@@ -528,7 +521,7 @@ sig_status sig_chain_mcs51_step(int32_t x)
         mul_b = S.recip; mul16();
         m = (int16_t)-(int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));
     }
-    m7 = S.base7 + dev_to_q7(m);
+    m7 = S.base7 + (int32_t)m * 128;     /* sdcc: shifts, no 32x32 product */
     innov = m7 - S.x;                     /* |m7|, |x| < 2^30 (S.small): exact */
     if (innov <= -32768 || innov >= 32768) return step_general(x);
     a = (uint16_t)(innov < 0 ? -innov : innov);
