@@ -160,9 +160,11 @@ def test_chain_mcs51_in_s51_equals_portable_chain(tmp_path):
     img = runner.build_mcs51([CHAIN_PORT], HARNESS / "chain_mcs51_harness.c", [],
                              include_dirs=[tmp_path, CHAIN_PORT.parent])
     n = len(case.x)
-    r = runner.measure(img, reads={"vec_out": 4 * n, "vec_stable": n, "vec_status": 2 * n,
-                                   "init_status": 2, "one_status": 2, "one_out": 4,
-                                   "restart_status": 2, "restart_out": 4}, stack=False)["reads"]
+    res = runner.measure(img, reads={"vec_out": 4 * n, "vec_stable": n, "vec_status": 2 * n,
+                                     "init_status": 2, "one_status": 2, "one_out": 4,
+                                     "restart_status": 2, "restart_out": 4}, stack=False)
+    assert not res["total"]["stack_overflow"]       # the internal RAM is nearly full
+    r = res["reads"]
     seq = np.r_[case.x, case.one_x, np.full(n_pre + 1, x_restart)]
     h_out, h_stable, h_status = _portable(case.preset, None, {}, seq)
     assert np.frombuffer(r["init_status"], "<i2")[0] == 0
