@@ -4,9 +4,10 @@
  *
  * What differs from the portable chain (csrc/weigh/sig_chain.c):
  *  - one chain, at a fixed address: the state is the global sig_chain_mcs51
- *    (in the 8051's direct RAM, the window in indirect RAM, the gain
- *    sequence in xdata) and the functions take no state pointer, so sdcc
- *    never goes through its 3-byte generic pointers;
+ *    (in the 8051's indirect RAM; the configuration sig_chain_mcs51_cfg and
+ *    the window in xdata, the gain table in code memory) and the functions
+ *    take no state pointer, so sdcc never goes through its 3-byte generic
+ *    pointers;
  *  - the anti-pulse window holds int16 deviations from a base code (the
  *    first sample after every window reset), with a running sum and its
  *    extremes; the trimmed mean is base + round(t / (N - 2)), t the trimmed
@@ -20,9 +21,10 @@
  *    x += K * innov is two 16x16 products while |innov| < 2^15;
  *  - the motion test and the stability test reuse the innovation and the
  *    Kalman increment (the same differences the portable stages form).
- * Anything outside the fast ranges (window filling, a deviation beyond
- * int16, a large innovation, a lock-out re-seed, a motion restart) takes a
- * general 32-bit branch with the same results, only slower.
+ * Anything outside the fast ranges (window filling, an extreme leaving the
+ * window, a sample rejected or beyond the int16 deviations or the clamp, a
+ * large innovation, a lock-out re-seed, a motion restart, |x| >= 2^30)
+ * takes a general 32-bit branch with the same results, only slower.
  *
  * Range: the window's deviations must fit int16 around some base; a step
  * whose sample cannot be held so (the window would span more than 32767
