@@ -186,21 +186,24 @@ sig_pwl_eval_axes_msp430:
     mov     r10, &OP2
     mov     &RESLO, r13
     mov     &RESHI, r14
-    mov.b   VFRAC(r12), r6
-    sub     #4, r6
-    jeq     .Lastore
-    jl      .Laleft
-    rla     r6                      ; floor(acc / 2^k), k = value_frac - 4 = 1..11:
-    rla     r6                      ; enter the unrolled shifts k pairs (4 bytes each)
-    inv     r6                      ; before their end
-    inc     r6
-    add     #.Laright_end, r6
-    br      r6
+    mov.b   VFRAC(r12), r6          ; scale by 2^(4 - value_frac): jump into the
+    rla     r6                      ; unrolled shifts, value_frac - 4 pairs from
+    mov     .Lvf_entry(r6), r0      ; the end (floor: arithmetic right shifts)
+.Laleft_by4:                        ; value_frac 0..3: exact left shifts
+    rla     r13
+    rlc     r14
+    rla     r13
+    rlc     r14
+    rla     r13
+    rlc     r14
+    rla     r13
+    rlc     r14
+    jmp     .Lastore
+.Laright_by11:
     .rept   11
     rra     r14
     rrc     r13
     .endr
-.Laright_end:
 .Lastore:
     mov     r13, 0(r15)
     mov     r14, 2(r15)
@@ -216,12 +219,6 @@ sig_pwl_eval_axes_msp430:
     pop     r9
     pop     r10
     ret
-.Laleft:
-    rla     r13
-    rlc     r14
-    inc     r6
-    jnz     .Laleft
-    jmp     .Lastore
 .Lalast:                            ; on the last knot: hi = table[n - 1], frac = 1
     mov.b   N_KNOTS(r12), r9
     dec     r9
@@ -262,4 +259,10 @@ sig_pwl_eval_axes_msp430:
 .Laerr:
     mov     #-1, r12
     ret
+    .p2align 1
+.Lvf_entry:                         ; entry per value_frac 0..15 (4 bytes per shift pair)
+    .word   .Laleft_by4, .Laleft_by4 + 4, .Laleft_by4 + 8, .Laleft_by4 + 12, .Lastore
+    .word   .Lastore - 4, .Lastore - 8, .Lastore - 12, .Lastore - 16, .Lastore - 20
+    .word   .Lastore - 24, .Lastore - 28, .Lastore - 32, .Lastore - 36, .Lastore - 40
+    .word   .Lastore - 44
     .size   sig_pwl_eval_axes_msp430, .-sig_pwl_eval_axes_msp430
