@@ -484,16 +484,17 @@ static sig_status step_general(int32_t x)
 }
 
 /* One sample.  The common case runs here, in int16 where the values
- * allow: window full, the sample accepted and within the deviation range, no
- * extreme evicted, the trimmed sum within the reciprocal's range,
+ * allow: window full, the sample accepted and within the deviation range
+ * (an evicted extreme costs a rescan of the window), the trimmed sum within
+ * the reciprocal's range,
  * |innovation| < 2^15, no motion restart.  When any of these fails, before
  * anything has changed, the general step runs instead. */
 sig_status sig_chain_mcs51_step(int32_t x)
 {
     int32_t t, m7, innov, dz;
-    int16_t y, old, mx, mn, m, inc, dd;
+    int16_t y, old, mx, mn, m, inc, dd, v;
     uint16_t a, u;
-    uint8_t motion_run = 0u, stab;
+    uint8_t motion_run = 0u, stab, i;
     if (S.count != S.n || !S.kf_seeded || !S.small) return step_general(x);
     if (x > SIG_CODE_MAX || x < -SIG_CODE_MAX) return step_general(x);   /* clamped: the general step */
     t = x - S.base;
@@ -504,9 +505,20 @@ sig_status sig_chain_mcs51_step(int32_t x)
     old = WIN[S.head];
     mx = S.mx;
     mn = S.mn;
-    if (old == mx || old == mn) return step_general(x);
-    if (y > mx) mx = y;
-    if (y < mn) mn = y;
+    if (old == mx || old == mn) {
+        /* an extreme leaves the window: the extremes of the window with y in
+         * old's slot (the portable stage rescans the same values) */
+        mx = mn = y;
+        for (i = 0u; i < S.n; i++) {
+            if (i == S.head) continue;
+            v = WIN[i];
+            if (v > mx) mx = v;
+            if (v < mn) mn = v;
+        }
+    } else {
+        if (y > mx) mx = y;
+        if (y < mn) mn = y;
+    }
     t = S.sum + (y - old);                /* int16 difference: both within +-DEV_MAX */
     t = t - mx - mn + S.half;
     if (t >= 0) {
