@@ -21,9 +21,8 @@
  *    x += K * innov is two 16x16 products while |innov| < 2^15;
  *  - the motion test and the stability test reuse the innovation and the
  *    Kalman increment (the same differences the portable stages form).
- * Anything outside the fast ranges (window filling, an extreme leaving the
- * window, a sample rejected or beyond the int16 deviations or the clamp, a
- * large innovation, a lock-out re-seed, a motion restart, |x| >= 2^30)
+ * Anything outside the fast ranges (window filling, a sample rejected or
+ * beyond the int16 deviations or the clamp, a large innovation, a lock-out re-seed, a motion restart, |x| >= 2^30)
  * takes a general 32-bit branch with the same results, only slower.
  *
  * Range: the window's deviations must fit int16 around some base; a step
