@@ -14,6 +14,14 @@ Table 2: one weighing-chain step (sig_chain_step_q / _f) on the MSP430 and
 the 8051 (12T clocks from s51, 1T estimate for the STC12C5A60S2).
 Next to every figure: an operation-count model from the algorithm.
 
+Port-layer paths beside the portable C (csrc/port/): "fixed16_asm" rows
+(sig_tcomp16_apply_msp430, assembly on the 16x16 multiplier), Table 1b the
+uniform-table lookup (sig_pwl_eval_q16 against sig_pwl_eval_msp430 and the
+per-image sig_pwl_eval_axes_msp430), and the 8051 chain of
+csrc/port/mcs51 in Table 2 (steady-state and motion-restart steps).  Each
+target's status is printed and written; a missed one comes with its
+profile.
+
 Every row is built from source, run in mspdebug 0.22 `sim` / ucsim s51, and
 its outputs are read back and checked against the host C (Cython) before the
 row is printed: a wrong build cannot produce a number here.
@@ -22,6 +30,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import struct
 from pathlib import Path
 
@@ -31,6 +40,7 @@ ROOT = Path(__file__).resolve().parent.parent
 from pysig.mcu import runner  # noqa: E402
 from pysig.mcu import tcomp16_vectors  # noqa: E402
 from pysig.mcu import vectors  # noqa: E402
+from pysig.mcu import pwl_vectors  # noqa: E402
 
 CSRC = runner.CSRC
 HARNESS = ROOT / "bench" / "mcu" / "harness"
@@ -45,7 +55,12 @@ MCS51_HZ = 12_000_000
 AXES = 3
 
 _IMAGES = {}                 # (what, form, hwmult) -> (image, instructions): for profiles
-TARGETS = {"tcomp_q2_hw_cycles": 300, "tcomp_float_over_fixed": 10.0, "chain_q_8051_clocks": 3000}
+TARGETS = {"tcomp_q2_hw_cycles": 300, "tcomp_float_over_fixed": 10.0, "chain_q_8051_clocks": 3000,
+           "table_lookup_cycles_per_axis": 100}
+TCOMP16_ASM = CSRC / "port" / "msp430" / "sig_tcomp16_msp430.S"
+PWL_ASM = CSRC / "port" / "msp430" / "sig_pwl_msp430.S"
+CHAIN_MCS51 = CSRC / "port" / "mcs51" / "sig_chain_mcs51.c"
+ASM_DEFINES = {"MPY_BASE": runner.MSP430_MPY_BASE_SIM}
 
 
 # ------------------------------------------------------ operation models ---
@@ -150,22 +165,26 @@ def tcomp_row(order: int, form: str, hwmult: bool, vdd: float) -> dict:
             "ops": tcomp_ops(form, order), "checked_vectors": n}
 
 
-def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False) -> dict:
+def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False,
+                asm: bool = False) -> dict:
     """The compact form (csrc/sig_tcomp16.c) on the same temperatures and
     readings as tcomp_row, the same polynomial quantised by
     pysig.tcomp.quant.quantize_compact (bench/mcu/tcomp16_vectors.py), checked
     against the host C before the row is returned.  inline: the same C with
     the sig_port.h hooks of bench/mcu/msp430/sig_port_msp430.h (multiplier
-    MAC/MACS as volatile accesses, hw only)."""
+    MAC/MACS as volatile accesses, hw only).  asm: the port layer's assembly
+    form csrc/port/msp430/sig_tcomp16_msp430.S (hw only)."""
     case = tcomp16_vectors.tcomp16_case(order)
     gen = runner.BUILD_DIR / "gen" / f"tcomp16-o{order}"
     tcomp16_vectors.write_tcomp16_header(case, gen / "tcomp16_vectors.h")
-    func = "sig_tcomp16_apply_q"
-    form = "fixed16_inline" if inline else "fixed16"
-    img = runner.build_msp430(TCOMP16_SRC, HARNESS / "tcomp16_harness.c",
-                              INLINE_DEFINES if inline else [], hwmult=hwmult,
-                              include_dirs=[gen, PORT_MSP430] if inline else [gen],
-                              name=f"tcomp16-o{order}" + ("-inline" if inline else ""))
+    func = "sig_tcomp16_apply_msp430" if asm else "sig_tcomp16_apply_q"
+    form = "fixed16_asm" if asm else "fixed16_inline" if inline else "fixed16"
+    defines = (dict(ASM_DEFINES, TC16_PORT_HEADER='"sig_tcomp16_msp430.h"', TC16_APPLY=func)
+               if asm else INLINE_DEFINES if inline else [])
+    img = runner.build_msp430(TCOMP16_SRC + ([TCOMP16_ASM] if asm else []),
+                              HARNESS / "tcomp16_harness.c", defines, hwmult=hwmult,
+                              include_dirs=[gen, PORT_MSP430] if (inline or asm) else [gen],
+                              name=f"tcomp16-o{order}" + ("-asm" if asm else "-inline" if inline else ""))
     n, a = case.base.in_q.shape
     r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
                        reads={"vec_out": 2 * n * a, "vec_status": 2 * n})
@@ -176,13 +195,15 @@ def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False) -> d
         raise SystemExit(f"tcomp16 order {order} {form}: firmware results differ from the host C")
     _IMAGES[(form, order, hwmult)] = (img, r["funcs"][func]["instructions"])
     clos = runner.code_closure(img, func)
-    if inline and any(runner.is_helper(k) for k in clos):
+    if (inline or asm) and any(runner.is_helper(k) for k in clos):
         raise SystemExit(f"tcomp16 order {order} {form}: the port hooks did not take effect ({clos})")
     one = r["funcs"][func]
     model_bytes = runner.symbol_size(img, "model")
     t_us = one["cycles"] / MCLK_HZ * 1e6
     return {"target": "msp430f5510", "form": form, "order": order,
-            "multiplier": ("hw inline MAC/MACS (sig_port_msp430.h, 16x16 MPY at 0x0130 in the "
+            "multiplier": ("hw, assembly MAC/MACS (csrc/port/msp430/sig_tcomp16_msp430.S, "
+                           "16x16 MPY at 0x0130 in the simulator)" if asm else
+                           "hw inline MAC/MACS (sig_port_msp430.h, 16x16 MPY at 0x0130 in the "
                            "simulator)" if inline else
                            "hw (16x16 MPY at 0x0130 in the simulator)" if hwmult else "none"),
             "text_bytes": sum(v for k, v in clos.items() if not runner.is_helper(k)),
@@ -192,7 +213,7 @@ def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False) -> d
             "cycles": one["cycles"], "instructions": one["instructions"],
             "cycles_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
             "time_us": round(t_us, 2), "energy_uj": round(I_ACTIVE_A * vdd * t_us, 4),
-            "ops": tcomp_ops(form, order), "checked_vectors": n,
+            "ops": tcomp_ops("fixed16_inline" if asm else form, order), "checked_vectors": n,
             "drift_amplitude_lsb": round(case.amplitude, 1),
             "compact_error_lsb": round(max(case.compact.error_lsb), 4)}
 
@@ -245,6 +266,19 @@ def _check_chain(case, form, reads):
 
 
 MCS51_CHAIN_FLAGS = ["--stack-auto"]
+WHAT_3000_TAKES = (
+    "3000 12T clocks are 250 machine cycles, ~170 instructions.  The port's steady step "
+    "is sdcc C: every 32-bit operation on the indirect-RAM state (sample - base, the "
+    "window sum, m*128 + base, the innovation, x += inc, the zero-tracking offset and "
+    "x - offset) costs 20-40 instructions, and its three 16x16 products (trimmed-mean "
+    "reciprocal, Kalman gain low and high word) 52 machine cycles each in assembly "
+    "(4 MUL AB + carries).  An estimate for the same algorithm in hand-written 8051 "
+    "assembly with the hot state in direct RAM: ~460 machine cycles (~5500 clocks), of "
+    "which the products ~160.  Under 3000 needs fewer products as well: the Kalman "
+    "update as one 16x8 product (a steady gain rounded to 8 bits is not bit-exact with "
+    "the portable chain, so the reference would have to change), the trimmed mean kept "
+    "as quotient and remainder updated by the window's change (no division), and the "
+    "output side (zero tracking, x - offset) in 16 bits around a base like the window.")
 
 
 def chain_row_mcs51(form: str, case) -> dict:
@@ -294,11 +328,144 @@ def chain_row_mcs51(form: str, case) -> dict:
     return row
 
 
+def _mcs51_ds_size(img, module: str, name: str) -> int:
+    """bytes sdcc reserved for a variable (.ds in the module's .asm)."""
+    m = re.search(r"^_%s::\s*\n\s*\.ds (\d+)" % re.escape(name),
+                  (img.path.parent / f"{module}.asm").read_text(), re.M)
+    if not m:
+        raise SystemExit(f"{name}: no .ds in {module}.asm")
+    return int(m.group(1))
+
+
 def _mcs51_xdata_size(img, name: str) -> int:
     """bytes of an xdata variable: distance to the next xdata symbol (.map)."""
     xs = sorted(a for sp, a in img.symbols.values() if sp == "xram")
     a = img.symbols["_" + name][1]
     return next(x for x in xs if x > a) - a
+
+
+# ------------------------------------------------------ table lookup (1b) ---
+PWL_FORMS = (
+    # (form, entry, port header define, value_frac of the three tables)
+    ("portable", "sig_pwl_eval_q16", None, (9, 4, 1)),
+    ("asm", "sig_pwl_eval_msp430", "PW_EVAL", (9, 4, 1)),
+    ("asm_axes", "sig_pwl_eval_axes_msp430", "PW_EVAL_AXES", (9, 4, 1)),
+    ("asm_axes", "sig_pwl_eval_axes_msp430", "PW_EVAL_AXES", (4, 4, 4)),
+)
+
+
+def pwl_row(form, entry, macro, vfs, vdd, spacing_shift=8):
+    """One uniform-table lookup build: three tables over the compensation's
+    range with knots 2^spacing_shift units (2.56 degC) apart, one per output
+    scaling (value_frac > 4, 4, < 4) or all value_frac 4 (no output shift).
+    Every output and status of the batch is checked against the host C
+    sig_pwl_eval_q16.  cycles_per_axis: one call (entry to return) / axes
+    it evaluates; batch: region cycles / (temperatures x axes), loop
+    included."""
+    case = pwl_vectors.pwl_case(spacing_shift=spacing_shift, value_frac=vfs)
+    tag = f"pwl-{form}-{''.join(map(str, vfs))}"
+    gen = runner.BUILD_DIR / "gen" / tag
+    pwl_vectors.write_pwl_header(case, gen / "pwl_vectors.h")
+    src = [runner.c_source("sig_pwl")] + ([PWL_ASM] if macro else [])
+    defines = dict(ASM_DEFINES, PW_PORT_HEADER='"sig_pwl_msp430.h"', **{macro: entry}) if macro else {}
+    img = runner.build_msp430(src, HARNESS / "pwl_harness.c", defines, hwmult=True,
+                              include_dirs=[gen, PORT_MSP430], name=tag)
+    n = len(case.temps)
+    axes_call = macro == "PW_EVAL_AXES"
+    reads = ({"vec_out3": 12 * n, "vec_status3": 2 * n} if axes_call
+             else {"vec_out": 12 * n, "vec_status": 6 * n})
+    r = runner.measure(img, funcs=[entry], regions=["bench_start:bench_stop"], reads=reads)
+    h_out, h_st = pwl_vectors.host_eval(case)
+    if axes_call:
+        fw = np.frombuffer(r["reads"]["vec_out3"], "<i4").reshape(n, 3).T
+        ok = np.array_equal(fw, h_out) and np.array_equal(_i16(r["reads"]["vec_status3"]), h_st[0])
+    else:
+        fw = np.frombuffer(r["reads"]["vec_out"], "<i4").reshape(3, n)
+        ok = np.array_equal(fw, h_out) and np.array_equal(_i16(r["reads"]["vec_status"]).reshape(3, n), h_st)
+    if not ok:
+        raise SystemExit(f"table lookup {form} {vfs}: firmware results differ from the host C")
+    one = r["funcs"][entry]
+    per_call_axes = 3 if axes_call else 1
+    clos = runner.code_closure(img, entry)
+    cyc = one["cycles"] / per_call_axes
+    return {"target": "msp430f5510", "form": form, "entry": entry, "value_frac": list(vfs),
+            "n_knots": case.n_knots, "knot_spacing": 1 << spacing_shift,
+            "multiplier": "hw (16x16 MPY at 0x0130 in the simulator)",
+            "cycles_call": one["cycles"], "axes_per_call": per_call_axes,
+            "cycles_per_axis": round(cyc, 1), "instructions": one["instructions"],
+            "cycles_per_axis_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / (3 * n), 1),
+            "time_us_per_axis": round(cyc / MCLK_HZ * 1e6, 2),
+            "energy_uj_per_axis": round(I_ACTIVE_A * vdd * cyc / MCLK_HZ * 1e6, 4),
+            "text_bytes": sum(v for k, v in clos.items() if not runner.is_helper(k)),
+            "stack_bytes": one["stack_bytes"], "checked_values": 3 * n}
+
+
+def table1b(vdd):
+    rows = [pwl_row(f, e, m, v, vdd) for f, e, m, v in PWL_FORMS]
+    print("\nTable 1b - uniform-table lookup (Q16.16 out), MSP430F5510 @ 8 MHz, knots 256 units "
+          "(2.56 degC) apart: the index is one 16x16 product (a shift), cycles per axis")
+    cols = ["form", "entry", "value_frac", "n_knots", "cycles_call", "axes_per_call",
+            "cycles_per_axis", "cycles_per_axis_avg_batch", "time_us_per_axis", "text_bytes",
+            "stack_bytes"]
+    print(_table([dict(r, value_frac=",".join(map(str, r["value_frac"]))) for r in rows], cols))
+    print("portable = csrc/tcomp/sig_pwl.c; asm = csrc/port/msp430/sig_pwl_msp430.S one table per "
+          "call; asm_axes = the three tables of one image per call (shared clamp, segment and "
+          "fraction); value_frac 4 needs no output shift")
+    return rows
+
+
+# ------------------------------------------------------ 8051 chain port ---
+MCS51_PORT_FLAGS = []      # plain --model-large: the port's state is placed by hand
+CHAIN_PORT_N = 700         # long enough for the Kalman gain to settle after the last restart
+
+
+def chain_row_mcs51_port(case=None) -> tuple:
+    """The 8051 chain of csrc/port/mcs51 (sdcc --model-large, no
+    --stack-auto: hot state in indirect RAM, window and configuration in
+    xdata, the gain table in code memory).  Bit for bit against the host C
+    of the portable chain on CHAIN_PORT_N samples (two load changes, impulses,
+    a lock-out re-seed), then: the steady-state step (sample N+1, gain
+    settled) and the motion-restart step, each counted entry to return."""
+    from pysig.mcu._chain_mcs51 import gain_table
+    case = case or vectors.chain_case(n=CHAIN_PORT_N)
+    gains = gain_table(case.fixed["q_q30"], case.fixed["p0_q16"])
+    gen = runner.BUILD_DIR / "gen" / "chain-mcs51"
+    vectors.write_chain_mcs51_header(case, gains, gen / "chain_vectors.h")
+    img = runner.build_mcs51([CHAIN_MCS51], HARNESS / "chain_mcs51_harness.c", [],
+                             include_dirs=[gen, CHAIN_MCS51.parent], name="chain-mcs51",
+                             extra_flags=MCS51_PORT_FLAGS)
+    n = len(case.x)
+    steady, restart = "sig_chain_mcs51_step", "sig_chain_mcs51_step@restart_step"
+    r = runner.measure(img, funcs=[steady, restart], regions=["bench_start:bench_stop"],
+                       reads={"vec_out": 4 * n, "vec_status": 2 * n, "vec_stable": n,
+                              "restart_status": 2, "one_status": 2})
+    if r["total"].get("stack_overflow"):
+        raise SystemExit("8051 chain port: the stack passed 0xFF (s51)")
+    _check_chain(case, "fixed", r["reads"])
+    if not (_i16(r["reads"]["restart_status"])[0] & 32):
+        raise SystemExit("8051 chain port: the restart step did not restart (no SIG_CHAIN_MOTION)")
+    _IMAGES[("chain", "fixed", "mcs51-port")] = (img, r["funcs"][steady]["instructions"])
+    one, rs = r["funcs"][steady], r["funcs"][restart]
+    clos = runner.code_closure(img, "sig_chain_mcs51_step")
+    state = {v: _mcs51_ds_size(img, "sig_chain_mcs51", v) for v in
+             ("sig_chain_mcs51", "sig_chain_mcs51_cfg", "sig_chain_mcs51_window")}
+    row = {"target": "8051 (s51 -t C52, sdcc --model-large, csrc/port/mcs51)", "form": "fixed_port",
+           "status": "ok", "clocks_12T": one["cycles"], "instructions": one["instructions"],
+           "clocks_12T_restart": rs["cycles"], "clocks_1T_estimate_restart": rs["clocks_1t_stc_y5"],
+           "clocks_12T_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
+           "ms_12MHz_12T": round(one["cycles"] / MCS51_HZ * 1e3, 3),
+           "clocks_1T_estimate": one["clocks_1t_stc_y5"],
+           "us_1T_estimate_12MHz": round(one["clocks_1t_stc_y5"] / MCS51_HZ * 1e6, 1),
+           "code_bytes_fetched": one["code_bytes_fetched"],
+           "text_bytes": sum(v for k, v in clos.items() if not runner.is_helper(k)),
+           "helper_bytes": sum(v for k, v in clos.items() if runner.is_helper(k)),
+           "gain_table_bytes": 4 * len(gains), "gain_steps": len(gains),
+           "state_bytes_idata": state["sig_chain_mcs51"],
+           "state_bytes_xdata": state["sig_chain_mcs51_cfg"] + state["sig_chain_mcs51_window"],
+           "stack_bytes": one["stack_bytes"],
+           "max_sp_batch": hex(r["total"]["max_sp"]) if "max_sp" in r["total"] else None,
+           "checked_samples": n, "ops": chain_ops("fixed")}
+    return row, img
 
 
 def tcomp_fast_row(order: int, vdd: float) -> dict:
@@ -382,17 +549,19 @@ def main(argv=None):
 
     t1, t2, t3 = [], [], []
     for hw in (True, False) if a.table in ("1", "all") else ():
-        for form in ("fixed", "fixed16", "fixed16_inline", "float"):
-            if form == "fixed16_inline" and not hw:
-                continue                    # the hooks are the multiplier's
+        for form in ("fixed", "fixed16", "fixed16_inline", "fixed16_asm", "float"):
+            if form in ("fixed16_inline", "fixed16_asm") and not hw:
+                continue                    # the hooks and the assembly are the multiplier's
             for order in _orders(a.orders):
-                t1.append(tcomp16_row(order, hw, a.vdd, inline=form == "fixed16_inline")
+                t1.append(tcomp16_row(order, hw, a.vdd, inline=form == "fixed16_inline",
+                                      asm=form == "fixed16_asm")
                           if form.startswith("fixed16") else tcomp_row(order, form, hw, a.vdd))
     if t1:
         print_table1(t1, a)
+    t1b = table1b(a.vdd) if a.table in ("1", "all") else []
     if a.table in ("2", "all"):
         t2, t3 = table2(a)
-    checks, profiles, experiment = targets(t1, t2, a)
+    checks, profiles, experiment = targets(t1, t2, a, t1b)
     if a.json:
         a.json.parent.mkdir(parents=True, exist_ok=True)
         a.json.write_text(json.dumps({
@@ -401,7 +570,8 @@ def main(argv=None):
                      "msp430_helpers": "bench/mcu/msp430 (rt_hwmul.c with MPY_BASE=0x0130 for hw)",
                      "mcs51_sim": "ucsim s51 0.6.4 -t C52 (12T); 1T estimate = opcode histogram "
                                   "x STC-Y5 published clocks (bench/mcu/mcs51/timing.py)"},
-            "table1": t1, "table2": t2, "mcs51_tcomp": t3, "targets": checks,
+            "table1": t1, "table1b_table_lookup": t1b, "table2": t2, "mcs51_tcomp": t3,
+            "targets": checks,
             "experiment_tcomp_fast": experiment, "profiles": profiles}, indent=1))
         print(f"\nwrote {a.json}")
 
@@ -433,17 +603,25 @@ def table2(a):
         t2 += [chain_rows_msp430(f, hw, case, a.vdd) for hw in (True, False) for f in ("fixed", "float")]
         if not a.no_8051:
             t2 += [chain_row_mcs51(f, case) for f in ("fixed", "float")]
+    if not a.no_8051:
+        t2.append(chain_row_mcs51_port()[0])
     _estimator_cost(t2)
     print("\nTable 2 - one weighing-chain step (limit + anti-pulse + Kalman + stability), "
           f"presets {vectors.CHAIN_PRESET!r} and 'auto' (the default: + noise estimator), "
           f"{len(vectors.chain_case().x)} samples")
     cols = ["target", "multiplier", "form", "preset", "cycles", "cycles_avg_batch", "time_us", "text_bytes",
-            "helper_bytes", "ram_bytes", "stack_bytes", "clocks_12T", "clocks_12T_avg_batch",
-            "clocks_1T_estimate", "auto_over_recommended", "status"]
+            "helper_bytes", "ram_bytes", "stack_bytes", "clocks_12T", "clocks_12T_restart",
+            "clocks_12T_avg_batch", "clocks_1T_estimate", "auto_over_recommended", "status"]
     print(_table(t2, cols))
     for r in t2:
         if r.get("status") == "does not build":
             print(f"  {r['target']} {r['form']}: does not build - {'; '.join(r['error'])}")
+        elif r["form"] == "fixed_port":
+            print(f"  {r['target']}: steady step {r['ms_12MHz_12T']} ms at 12 MHz (12T), "
+                  f"~{r['us_1T_estimate_12MHz']} us 1T estimate; motion-restart step "
+                  f"{r['clocks_12T_restart']} 12T clocks; state {r['state_bytes_idata']} B "
+                  f"indirect RAM, gain table {r['gain_table_bytes']} B code "
+                  f"({r['gain_steps']} steps); {r['checked_samples']} samples checked")
         elif r["target"].startswith("8051"):
             print(f"  {r['target']} {r['form']}: {r['ms_12MHz_12T']} ms at 12 MHz (12T), "
                   f"~{r['us_1T_estimate_12MHz']} us 1T estimate; state {r['state_bytes']} B xdata, "
@@ -462,16 +640,16 @@ def _estimator_cost(t2):
     average) over the same target's and form's recommended step - 1."""
     def key(r):
         return (r["target"], r.get("multiplier"), r["form"])
-    ref = {key(r): r for r in t2 if r["preset"] == vectors.CHAIN_PRESET and r.get("status", "ok") == "ok"}
+    ref = {key(r): r for r in t2 if r.get("preset") == vectors.CHAIN_PRESET and r.get("status", "ok") == "ok"}
     for r in t2:
         base = ref.get(key(r))
-        if r["preset"] == "auto" and base and r.get("status", "ok") == "ok":
+        if r.get("preset") == "auto" and base and r.get("status", "ok") == "ok":
             c = "clocks_12T" if "clocks_12T" in r else "cycles"
             r["auto_over_recommended"] = round(r[c] / base[c] - 1.0, 3)
             r["auto_over_recommended_batch"] = round(r[c + "_avg_batch"] / base[c + "_avg_batch"] - 1.0, 3)
 
 
-def targets(t1, t2, a):
+def targets(t1, t2, a, t1b=()):
     def pick(form, order, hw=True):
         return next(r for r in t1 if r["form"] == form and r["order"] == order
                     and (r["multiplier"] != "none") == hw)
@@ -497,16 +675,33 @@ def targets(t1, t2, a):
                        "measured": round(f2["cycles"] / i2["cycles"], 2),
                        "met": f2["cycles"] >= 10 * i2["cycles"]})
     for r in t2:                      # the default's noise estimator on today's fixed step
-        if r["preset"] == "auto" and r["form"] == "fixed" and "auto_over_recommended" in r:
+        if r.get("preset") == "auto" and r["form"] == "fixed" and "auto_over_recommended" in r:
             where = r["target"].split()[0] + (f", {r['multiplier'].split()[0]} multiplier"
                                               if "multiplier" in r else "")
             checks.append({"target": f"auto (noise measured) adds <= 15 % to the fixed chain step ({where})",
                            "measured": r["auto_over_recommended"], "met": r["auto_over_recommended"] <= 0.15})
+    if t1 and 2 in _orders(a.orders) and any(r["form"] == "fixed16_asm" for r in t1):
+        s2 = pick("fixed16_asm", 2)
+        checks.append({"target": "fixed16_asm (compact, csrc/port/msp430 assembly) order-2, 3 axes, "
+                                 "MSP430 hw <= 300 cycles",
+                       "measured": s2["cycles"], "met": s2["cycles"] <= 300})
+    for r in t1b:
+        if r["form"] == "asm_axes":
+            vf = ",".join(map(str, r["value_frac"]))
+            checks.append({"target": f"uniform-table lookup <= 100 cycles per axis "
+                                     f"(sig_pwl_eval_axes_msp430, value_frac {vf})",
+                           "measured": r["cycles_per_axis"], "met": r["cycles_per_axis"] <= 100})
     c51 = next((r for r in t2 if r["target"].startswith("8051") and r["form"] == "fixed"), None)
     if c51:
-        checks.append({"target": "fixed chain step on the 8051 <= 3000 12T clocks",
+        checks.append({"target": "fixed chain step on the 8051 <= 3000 12T clocks (portable C)",
                        "measured": c51.get("clocks_12T", c51.get("status")),
                        "met": c51.get("status") == "ok" and c51["clocks_12T"] <= 3000})
+    p51 = next((r for r in t2 if r["form"] == "fixed_port"), None)
+    if p51:
+        checks.append({"target": "fixed chain steady-state step on the 8051 <= 3000 12T clocks "
+                                 "(csrc/port/mcs51)",
+                       "measured": p51["clocks_12T"], "met": p51["clocks_12T"] <= 3000,
+                       "restart_step_12T": p51["clocks_12T_restart"]})
     print("\nTargets:")
     for c in checks:
         print(f"  {'MET ' if c['met'] else 'MISS'} {c['target']}: {c['measured']}")
@@ -546,7 +741,24 @@ def targets(t1, t2, a):
               "line (hooks inlined at their own lines):")
         for p in lines[:12]:
             print(f"    {p['line']:<28} {p['instructions']:>6} instr")
-    if c51 and not checks[-1]["met"] and ("chain", "fixed", "mcs51") in _IMAGES:
+    if p51 and not checks[-1]["met"] and ("chain", "fixed", "mcs51-port") in _IMAGES:
+        img, n = _IMAGES[("chain", "fixed", "mcs51-port")]
+        prof = runner.profile(img, "sig_chain_mcs51_step", n)
+        profiles["sig_chain_mcs51_step 8051 steady state"] = prof
+        lines = runner.profile_lines_mcs51(img, "sig_chain_mcs51_step", n)
+        profiles["sig_chain_mcs51_step 8051 steady state, by source line"] = lines
+        profiles["sig_chain_mcs51_step what remains"] = WHAT_3000_TAKES
+        print("  where the port's steady-state step's 12T clocks go (s51 history, exclusive per "
+              "function; mul16 = the MUL AB 16x16 product):")
+        for p in prof:
+            print(f"    {p['function']:<24} {p['clocks_12T']:>7} clk12T {p['clocks_1t_stc_y5']:>6} "
+                  f"clk1T {p['instructions']:>6} instr {p['calls']:>3} calls")
+        print("  ... by C source line (csrc/port/mcs51/sig_chain_mcs51.c as built):")
+        for p in lines[:15]:
+            print(f"    {p['line']:<26} {p['clocks_12T']:>6} clk12T {p['instructions']:>5} instr")
+        print("  what 3000 would take: " + WHAT_3000_TAKES)
+    if c51 and not any(c["target"].endswith("(portable C)") and c["met"] for c in checks) \
+            and ("chain", "fixed", "mcs51") in _IMAGES:
         img, n = _IMAGES[("chain", "fixed", "mcs51")]
         prof = runner.profile(img, "sig_chain_step_q", n)
         profiles["sig_chain_step_q 8051"] = prof

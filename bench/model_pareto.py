@@ -24,6 +24,17 @@ For each dataset, axis, family and size:
 Every MCU result is read back from the simulator and compared with the host
 C bit for bit; a mismatch stops the bench.
 
+Family "pwl2" (with --port-tables): tables whose knots are a power of two temperature units apart
+(the grid starts at the data's first temperature and ends at or before its
+last one; beyond the last knot the table is flat), the layout the MSP430
+assembly lookup of csrc/port/msp430/sig_pwl_msp430.S indexes with one
+product: cycles of sig_pwl_eval_axes_msp430 (the three axes of one image per
+call) divided by 3, checked bit for bit against the host C sig_pwl_eval_q16.
+Its entries are stored with at most 4 fraction bits (1/16 LSB: value_frac 4
+needs no output shift; the extra rounding is below 1/32 LSB).
+Its size is the grid's own knot count (the requested count rounded up to
+the next power-of-two spacing).
+
 Datasets: the MPU-6000 gyro offset curve of ../shared/data (MatrixPilot,
 GPL: read from there, never bundled) and pysig.sim.chamber's default run
 (the seed paper's 0/25/50/70 °C steps) averaged into 0.25 °C bins."""
@@ -51,11 +62,14 @@ from pysig.lsq import fit_poly  # noqa: E402
 from pysig.tcomp.model_select import (CHOICE_TOLERANCE, PAPER_ORDER, bin_by_temperature,  # noqa: E402
                                 choose, four_point_choice, four_point_study, load_curve,
                                 score_sizes)
-from pysig.tcomp.pwl import fit_pwl_q16  # noqa: E402
+from pysig.tcomp.pwl import PwlQ16, fit_pwl, fit_pwl_q16, quantize_values  # noqa: E402
+from pysig.tcomp.model_select import cross_validate  # noqa: E402
+from pysig.mcu import pwl_vectors  # noqa: E402
 from pysig.sim.chamber import ChamberParams, simulate  # noqa: E402
 
 HERE = Path(__file__).resolve().parent / "model_pareto"
-MPU_CSV = Path(os.environ.get("PYSIG_SHARED_DATA", ROOT.parent / "shared" / "data")) / "mpu6000_gyro_offset_vs_temp" / "mpu6000_sn102_gyro_offset.csv"
+SHARED_DATA = Path(os.environ.get("PYSIG_SHARED_DATA", ROOT.parent / "shared" / "data"))  # a worktree elsewhere
+MPU_CSV = SHARED_DATA / "mpu6000_gyro_offset_vs_temp" / "mpu6000_sn102_gyro_offset.csv"
 
 POLY_ORDERS = tuple(range(1, 9))
 PWL_KNOTS = (2, 3, 4, 5, 6, 8, 9, 12, 17, 24, 33, 48, 65, 97, 129, 184)
@@ -122,6 +136,81 @@ def poly_data_bytes(order):
 def pwl_models(curve, n_knots):
     return [fit_pwl_q16(curve.temp, curve.axis(a), n_knots, what=f"{a} table of {n_knots}")
             for a in curve.names]
+
+
+TEMP_UNITS_PER_C = 100          # 0.01 degC, as the compensation's temperature input
+
+
+def pow2_grid(temp, n_req, scale=TEMP_UNITS_PER_C):
+    """(t_lo, shift, n): knots 2^shift units apart from the data's first
+    temperature, at least n_req of them (spacing <= span / (n_req - 1)),
+    the last one at or before the data's last temperature."""
+    t_lo = int(np.ceil(float(np.min(temp)) * scale - 1e-9))
+    span = int(np.floor(float(np.max(temp)) * scale + 1e-9)) - t_lo
+    shift = max(0, int(np.floor(np.log2(span / (n_req - 1)))))
+    n = span // (1 << shift) + 1
+    while n > 255:
+        shift += 1
+        n = span // (1 << shift) + 1
+    return t_lo, shift, n
+
+
+def pwl2_fitter(n_req, scale=TEMP_UNITS_PER_C):
+    """fit(temp, y) -> float table on the power-of-two grid (held-out blocks
+    bridged linearly, as for the uniform tables)."""
+    def fit(temp, y):
+        t_lo, shift, n = pow2_grid(temp, n_req, scale)
+        return fit_pwl(temp, y, n, lo=t_lo / scale, hi=(t_lo + (n - 1) * (1 << shift)) / scale,
+                       bridge=True, what=f"power-of-two table of {n} knots")
+    return fit
+
+
+def pwl2_models(curve, n_req, scale=TEMP_UNITS_PER_C):
+    """The deployed fixed-point tables (one per axis, shared grid)."""
+    t_lo, shift, n = pow2_grid(curve.temp, n_req, scale)
+    tabs = []
+    for a in curve.names:
+        f = pwl2_fitter(n_req, scale)(curve.temp, curve.axis(a))
+        table, vf = quantize_values(f.values, what=f"{a} power-of-two table")
+        if vf > 4:      # 1/16 LSB steps are plenty, and value_frac 4 needs no output shift
+            vf = 4
+            table = np.round(np.asarray(f.values) * 16).astype(np.int16)
+        tabs.append(PwlQ16(table=table, t_lo=t_lo, t_hi=t_lo + (n - 1) * (1 << shift),
+                           recip=1 << (32 - shift), value_frac=vf, units_per_c=float(scale),
+                           rms=0.0))
+    return tabs, shift
+
+
+def mcu_pwl2(tag, tabs, shift):
+    """sig_pwl_eval_axes_msp430 on the three tables: cycles of one call / 3
+    (the assembly's cost hardly depends on the temperature: one index
+    product, no search), every output of N_TEMPS temperatures checked."""
+    temps = mcu_temps(tabs[0].t_lo, tabs[0].t_hi)
+    case = pwl_vectors.PwlCase(np.array([t.table for t in tabs]), tuple(t.value_frac for t in tabs),
+                               tabs[0].t_lo, tabs[0].t_hi, tabs[0].recip,
+                               np.asarray(temps, dtype=np.int16), int(temps[len(temps) // 2]))
+    d = _case_dir(tag)
+    pwl_vectors.write_pwl_header(case, d / "pwl_vectors.h")
+    harness = ROOT / "bench" / "mcu" / "harness" / "pwl_harness.c"
+    asm = runner.CSRC / "port" / "msp430" / "sig_pwl_msp430.S"
+    entry = "sig_pwl_eval_axes_msp430"
+    img = runner.build_msp430([runner.c_source("sig_pwl"), asm], harness,
+                              {"MPY_BASE": runner.MSP430_MPY_BASE_SIM,
+                               "PW_PORT_HEADER": '"sig_pwl_msp430.h"', "PW_EVAL_AXES": entry},
+                              include_dirs=[d, runner.PORT_MSP430], hwmult=True,
+                              name=f"pareto-{tag}")
+    n = len(temps)
+    res = runner.measure(img, funcs=[entry], reads={"vec_out3": 12 * n, "vec_status3": 2 * n},
+                         stack=False)
+    out = np.frombuffer(res["reads"]["vec_out3"], "<i4").reshape(n, 3).T
+    host, hst = pwl_vectors.host_eval(case)
+    if not (np.array_equal(out, host)
+            and np.array_equal(np.frombuffer(res["reads"]["vec_status3"], "<i2"), hst[0])):
+        raise SystemExit(f"{tag}: MSP430 assembly result differs from the host C")
+    one = res["funcs"][entry]["cycles"]
+    text, helper, tree = call_tree_bytes(img, entry)
+    return {"cycles": [one / 3] * 3, "single_call_cycles": one, "text_bytes": text,
+            "helper_bytes": helper, "call_tree": tree}
 
 
 # ------------------------------------------------------------------ MCU side --
@@ -233,7 +322,7 @@ def mcu_pwl(tag, tabs, n_knots):
 
 
 # ------------------------------------------------------------------- bench --
-def run_dataset(name, curve, unit, mcu=True, log=print):
+def run_dataset(name, curve, unit, mcu=True, log=print, port_tables=False):
     rows = []
     temp = curve.temp
     cv = {}
@@ -272,6 +361,34 @@ def run_dataset(name, curve, unit, mcu=True, log=print):
                        "unit": unit}
                 rows.append(row)
             log(f"  {name} {fam} {size}: {time.time() - t0:.1f} s")
+    done = set()
+    for n_req in PWL_KNOTS if port_tables else ():
+        if n_req > temp.size:
+            continue
+        t0 = time.time()
+        tabs, shift = pwl2_models(curve, n_req)
+        size = tabs[0].n_knots
+        if size in done or size > temp.size:
+            continue
+        done.add(size)
+        meas = mcu_pwl2(f"{name}-pwl2-{size}", tabs, shift) if mcu else None
+        for a, axis in enumerate(curve.names):
+            y = curve.axis(axis)
+            cv_rms, _ = cross_validate(pwl2_fitter(n_req), temp, y, N_BLOCKS)
+            fit_float = pwl2_fitter(n_req)(temp, y)
+            fixed = tabs[a](temp)
+            rows.append({"dataset": name, "family": "pwl2", "size": size, "axis": axis,
+                         "knot_spacing_units": 1 << shift, "cv_rms": cv_rms,
+                         "fit_rms": float(np.sqrt(np.mean((y - fixed) ** 2))),
+                         "fit_rms_float": float(np.sqrt(np.mean((y - fit_float(temp)) ** 2))),
+                         "data_bytes": tabs[0].data_bytes,
+                         "text_bytes": meas["text_bytes"] if meas else None,
+                         "helper_bytes": meas["helper_bytes"] if meas else None,
+                         "cycles": meas["cycles"][a] if meas else None,
+                         "single_call_cycles": meas["single_call_cycles"] if meas else None,
+                         "energy_uj": energy_uj(meas["cycles"][a]) if meas else None,
+                         "unit": unit})
+        log(f"  {name} pwl2 {size} (spacing {1 << shift}): {time.time() - t0:.1f} s")
     return rows
 
 
@@ -283,10 +400,11 @@ def summarise(name, curve, rows):
     for axis in curve.names:
         mine = [r for r in rows if r["axis"] == axis]
         ax = {}
-        for fam in ("poly", "pwl"):
+        for fam in ("poly", "pwl", "pwl2"):
             scores = [type("S", (), {"size": r["size"], "cv_rms": r["cv_rms"]})
                       for r in mine if r["family"] == fam]
-            ax[f"cv_choice_{fam}"] = choose(scores).size
+            if scores:
+                ax[f"cv_choice_{fam}"] = choose(scores).size
         pts, res = four_point_study(curve.temp, curve.axis(axis))
         ax["four_point"] = {"mode": pts.mode, "targets_c": list(pts.targets),
                             "temps_c": [float(curve.temp[i]) for i in pts.index],
@@ -316,7 +434,9 @@ def pareto_front(rows, cost="cycles"):
 
 
 def model_name(r):
-    return f"order {r['size']}" if r["family"] == "poly" else f"table of {r['size']} knots"
+    if r["family"] == "poly":
+        return f"order {r['size']}"
+    return f"{'power-of-two ' if r['family'] == 'pwl2' else ''}table of {r['size']} knots"
 
 
 def cheapest_within(rows, tolerance=CHOICE_TOLERANCE, cost="cycles"):
@@ -382,11 +502,16 @@ def plot(rows, summary, directory):
             for row, cost, label in ((0, "cycles", "MSP430F5510 cycles per call (mspdebug sim)"),
                                      (1, "data_bytes", "model bytes per axis (coefficients / table)")):
                 ax = subs[row][col]
-                for fam, mk, colr in (("poly", "o", "tab:blue"), ("pwl", "s", "tab:orange")):
+                for fam, mk, colr, lab in (
+                        ("poly", "o", "tab:blue", "polynomial (order), portable C"),
+                        ("pwl", "s", "tab:orange", "table (knots), portable C"),
+                        ("pwl2", "^", "tab:green", "table, power-of-two knots (knots), "
+                                                   "port assembly, 3 axes per call")):
                     fr = [r for r in rs if r["family"] == fam]
+                    if not fr:
+                        continue
                     ax.scatter([r[cost] for r in fr], [r["cv_rms"] for r in fr], marker=mk, c=colr,
-                               label="polynomial (order)" if fam == "poly" else "table (knots)",
-                               zorder=3)
+                               label=lab, zorder=3)
                     for r in fr:
                         ax.annotate(str(r["size"]), (r[cost], r["cv_rms"]), fontsize=7,
                                     xytext=(3, 3), textcoords="offset points")
@@ -444,6 +569,8 @@ def main(argv=None):
     ap.add_argument("--blocks", type=int, default=N_BLOCKS,
                     help=f"temperature blocks of the cross-validation (default {N_BLOCKS}; "
                          f"the two end blocks are never held out)")
+    ap.add_argument("--port-tables", action="store_true",
+                    help="add the power-of-two tables on the MSP430 assembly lookup (family pwl2)")
     ap.add_argument("--no-mcu", action="store_true",
                     help="skip the MSP430 builds (cycles, text bytes, energy left empty)")
     args = ap.parse_args(argv)
@@ -454,7 +581,7 @@ def main(argv=None):
     for name, (curve, unit) in datasets(args.datasets.split(",")).items():
         print(f"{name}: fitting, cross-validating and measuring ...", file=sys.stderr)
         r = run_dataset(name, curve, unit, mcu=not args.no_mcu,
-                        log=lambda m: print(m, file=sys.stderr))
+                        log=lambda m: print(m, file=sys.stderr), port_tables=args.port_tables)
         rows += r
         summary.append(summarise(name, curve, r))
     print_table(rows)

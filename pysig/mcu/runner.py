@@ -188,7 +188,10 @@ def build_msp430(sources, harness, defines=(), *, hwmult=True, name=None,
     objs = []
     for s in [harness, *sources]:       # harness and code under test: separate units, no LTO
         o = outdir / (s.stem + ".o")
-        _run([clang, *MSP430_CFLAGS, *hw, *dflags, *inc, "-c", s, "-o", o])
+        if s.suffix == ".S":            # port-layer assembly: preprocessed, warnings as errors
+            _run([clang, "--target=msp430", "-Werror", *dflags, *inc, "-c", s, "-o", o])
+        else:
+            _run([clang, *MSP430_CFLAGS, *hw, *dflags, *inc, "-c", s, "-o", o])
         objs.append(o)
     elf = outdir / f"{name}.elf"
     link = [lld, "-T", MCU_DIR / "msp430" / "msp430f5510.ld", "--gc-sections",
@@ -476,7 +479,10 @@ def _s51(img: Image, script, cpu="C52") -> str:
 def _mcs51_call_site(img: Image, fn: str, caller: str = "main"):
     """(address of the first 'lcall _fn' inside `caller` (main) in the .rst
     listings, return address).  Only calls in main count: a batch loop in
-    another harness function (run_batch) calls fn first."""
+    another harness function (run_batch) calls fn first.  fn may name its
+    caller as "fn@caller" (the call of fn inside that harness function)."""
+    if "@" in fn:
+        fn, caller = fn.split("@")
     pat = re.compile(r"^\s+([0-9A-F]{6}) 12 [0-9A-F]{2} [0-9A-F]{2}\s.*\blcall\s+_%s\s*$" % fn)
     label = re.compile(r"^\s+[0-9A-F]{6}\s+\d+ (_[A-Za-z0-9_]+):\s*$")
     for rst in sorted(img.path.parent.glob("*.rst")):
@@ -561,10 +567,56 @@ def _mcs51_code_labels(img: Image) -> list:
     return sorted(labels.items())
 
 
+def _mcs51_code_lines(img: Image) -> dict:
+    """address -> "file.c:line" of every instruction sdcc listed under a C
+    source comment in the .rst listings (runtime libraries have none)."""
+    where = {}
+    src = re.compile(r";\s+(\S+\.c):(\d+):")
+    ins = re.compile(r"^\s+([0-9A-F]{6}) ([0-9A-F]{2} )+")
+    for rst in img.path.parent.glob("*.rst"):
+        loc = None
+        for line in open(rst):
+            m = src.search(line)
+            if m:
+                loc = f"{Path(m.group(1)).name}:{m.group(2)}"
+                continue
+            m = ins.match(line)
+            if m and loc:
+                where[int(m.group(1), 16)] = loc
+    return where
+
+
+def profile_lines_mcs51(img: Image, func: str, n_instructions: int) -> list[dict]:
+    """As profile() for an 8051 image, per C source line: 12T clocks and
+    instructions of one call, each instruction attributed to the source
+    comment sdcc put above it (library routines by name)."""
+    import bisect
+    timing = _timing()
+    entry = img.symbols["_" + func.split("@")[0]][1]
+    site, _ = _mcs51_call_site(img, func)
+    to_entry = [f"break {site:#x}", "run", "delete", f"break {entry:#x}", "run"]
+    out = _mcs51_history(img, to_entry, n_instructions, cpu="C52")
+    where = _mcs51_code_lines(img)
+    labels = _mcs51_code_labels(img)
+    starts = [a for a, _ in labels]
+    rows = {}
+    for seg in re.split(r"^Host usage:.*$", out, flags=re.M)[1:]:
+        for m in timing._HIST_LINE.finditer(seg.split("Stop at")[0]):
+            pc, op = int(m.group(1), 16), int(m.group(2).split()[0], 16)
+            loc = where.get(pc)
+            if loc is None:
+                i = bisect.bisect_right(starts, pc) - 1
+                loc = labels[i][1][1:] if i >= 0 else f"{pc:#x}"
+            r = rows.setdefault(loc, {"line": loc, "instructions": 0, "clocks_12T": 0})
+            r["instructions"] += 1
+            r["clocks_12T"] += 12 * timing.classic_machine_cycles(op)
+    return sorted(rows.values(), key=lambda r: -r["clocks_12T"])
+
+
 def _profile_mcs51(img, func, n_instructions, cpu="C52"):
     import bisect
     timing = _timing()
-    entry = img.symbols["_" + func][1]
+    entry = img.symbols["_" + func.split("@")[0]][1]
     site, _ = _mcs51_call_site(img, func)
     to_entry = [f"break {site:#x}", "run", "delete", f"break {entry:#x}", "run"]
     out = _mcs51_history(img, to_entry, n_instructions, cpu)
@@ -590,7 +642,7 @@ def _measure_mcs51(img, funcs, regions, reads, stack, one_t=True, cpu="C52"):
     s = img.symbols
     res = {"funcs": {}, "regions": {}, "reads": {}}
     for fn in funcs:
-        entry = s["_" + fn][1]
+        entry = s["_" + fn.split("@")[0]][1]
         site, ret = _mcs51_call_site(img, fn)
         to_entry = [f"break {site:#x}", "run", "delete", f"break {entry:#x}", "run"]
         script = to_entry + ["state"]

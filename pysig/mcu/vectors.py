@@ -188,3 +188,36 @@ def write_chain_header(case: ChainCase, path: Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("".join(h))
     return path
+
+
+# ------------------------------------------------------ 8051 chain port -----
+def chain_restart_plan(case: ChainCase) -> tuple:
+    """(sample, n_pre): a sample within A0 of the settled level but beyond
+    the motion band; after the batch and one_x, n_pre copies of it are fed,
+    and the next copy is the step on which the chain detects the motion and
+    restarts window and Kalman (found by running the portable chain)."""
+    from ..weigh.chain import Chain
+    f = case.fixed
+    band = -(-f["motion_band_q7"] // 128)
+    x = int(case.one_x + min(f["a0"] - 1, 3 * band))
+    seq = np.r_[case.x, case.one_x, np.full(64, x)].astype(float)
+    _, _, st = Chain(case.preset, fixed=True).process(seq, flags=True)
+    hit = np.flatnonzero(st[len(case.x) + 1:] & 32)
+    if not len(hit):
+        raise ValueError("the restart sample never triggers the motion restart")
+    return x, int(hit[0])
+
+
+def write_chain_mcs51_header(case: ChainCase, gains: np.ndarray, path: Path) -> Path:
+    """Vectors of the chain plus the Kalman gain table (code memory) and the
+    motion-restart sample for bench/mcu/harness/chain_mcs51_harness.c."""
+    write_chain_header(case, path)
+    extra = [f"#define CH_N_GAINS {len(gains)}u\n",
+             "#define CH_RESTART_X {}\n#define CH_RESTART_PRE {}u\n".format(
+                 c_int32(chain_restart_plan(case)[0]), chain_restart_plan(case)[1]),
+             "#include \"sig_chain_mcs51.h\"\n",
+             c_array("SIG_MCS51_CODE uint32_t", "ch_gains", gains,
+                     lambda v: f"UINT32_C({int(v)})")]
+    path = Path(path)
+    path.write_text(path.read_text() + "".join(extra))
+    return path

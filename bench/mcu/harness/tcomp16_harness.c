@@ -10,6 +10,15 @@
 
 #include "bench_marks.h"
 
+/* TC16_PORT_HEADER / TC16_APPLY: run a port-layer form of the entry point
+ * instead (bench/mcu_cost.py: csrc/port/msp430/sig_tcomp16_msp430.S) */
+#ifdef TC16_PORT_HEADER
+#include TC16_PORT_HEADER
+#endif
+#ifndef TC16_APPLY
+#define TC16_APPLY sig_tcomp16_apply_q
+#endif
+
 sig_status init_status;
 sig_status one_status;
 sig_status vec_status[TC16_N];
@@ -24,10 +33,10 @@ int main(void)
     uint16_t i;
     init_status = sig_tcomp16_init(&model, TC16_AXES, TC16_ORDER, tc16_top, tc16_add,
                                    TC16_T_LO, TC16_T_HI, TC16_W_SHIFT);
-    one_status = sig_tcomp16_apply_q(&model, one_t, one_in, one_out);
+    one_status = TC16_APPLY(&model, one_t, one_in, one_out);
     bench_start();
     for (i = 0; i < TC16_N; i++)
-        vec_status[i] = sig_tcomp16_apply_q(&model, tc16_t[i], tc16_in[i], vec_out[i]);
+        vec_status[i] = TC16_APPLY(&model, tc16_t[i], tc16_in[i], vec_out[i]);
     bench_stop();
     bench_done();
     return 0;
