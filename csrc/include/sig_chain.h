@@ -40,8 +40,7 @@
 #include "sig_kalman1.h"
 #include "sig_stable.h"
 
-#define SIG_CHAIN_MOTION ((sig_status)32)   /* motion detected: window and P restarted */
-#define SIG_CHAIN_TARED  ((sig_status)64)   /* a pending tare was applied on this sample */
+/* SIG_CHAIN_MOTION, SIG_CHAIN_TARED: sig_status.h */
 
 typedef struct {
     sig_real a0;            /* limit threshold, > 0 */
