@@ -11,6 +11,7 @@ section of pysig.tcomp.quant.CompactModel (`compact_poly_payload`,
 import struct
 
 from ..errors import ModelFileError, RangeError
+from ..status import Status, describe
 from ..reference import image as ref
 from ..reference import tcomp16 as ref16
 
@@ -26,8 +27,6 @@ SECTION_EXPERIMENTAL = 0x8000
 OFFSET_POLY_FIXED_LEN = 14
 COMPACT_POLY_FIXED_LEN = ref.COMPACT_POLY_FIXED_LEN
 
-_STATUS_TEXT = {ref.SIG_ERR_FORMAT: "bad magic, version, length or section layout",
-                ref.SIG_ERR_CRC: "CRC mismatch (corrupt or partly written)"}
 
 
 def build_image(sections, sequence=1):
@@ -50,8 +49,8 @@ def read_image(data, where="image"):
     """(sequence, [(type, payload)]) of a valid image; ModelFileError otherwise."""
     data = bytes(data)
     st = ref.validate(data)
-    if st != ref.SIG_OK:
-        raise ModelFileError(f"{where}: corrupt coefficient image: {_STATUS_TEXT[st]}")
+    if st != Status.OK:
+        raise ModelFileError(f"{where}: corrupt coefficient image: {describe(st)}")
     return ref.sequence(data), ref.sections(data)
 
 
@@ -115,7 +114,7 @@ def parse_compact_poly(data, where="image"):
     sig_tcomp16_load_image, as a ModelFileError naming what is wrong."""
     payload = find_section(data, SECTION_COMPACT_POLY, where)
     st, fields = ref.load_compact(data)
-    if st != ref.SIG_OK:
+    if st != Status.OK:
         raise ModelFileError(f"{where}: compact section of {len(payload)} bytes is malformed or holds "
                              f"a model sig_tcomp16_init rejects (counts, length, reserved byte, "
                              f"range, w_shift or the no-overflow bound)")

@@ -12,15 +12,16 @@ from libc.math cimport NAN
 
 from ..errors import NonFiniteError, RangeError
 from ..reference import chain as _ref
+from ..status import Status, Warn
 
 cnp.import_array()
 
-OK = _ref.OK
-WARN_CLAMPED = _ref.WARN_CLAMPED
-WARN_REJECTED = _ref.WARN_REJECTED
-LIMIT_RESEEDED = _ref.LIMIT_RESEEDED
-CHAIN_MOTION = _ref.CHAIN_MOTION
-CHAIN_TARED = _ref.CHAIN_TARED
+OK = Status.OK
+WARN_CLAMPED = Warn.WARN_CLAMPED
+WARN_REJECTED = Warn.WARN_REJECTED
+LIMIT_RESEEDED = Warn.LIMIT_RESEEDED
+CHAIN_MOTION = Warn.CHAIN_MOTION
+CHAIN_TARED = Warn.CHAIN_TARED
 
 
 cdef _as_float(x):

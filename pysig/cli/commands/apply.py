@@ -15,6 +15,7 @@ from ...tcomp import model as tmodel
 from ...tcomp import quant
 from ...errors import InputFileError, ModelFileError, NonFiniteError, RangeError
 from ...io import read_csv, write_csv
+from ...status import Status
 
 
 def register(sub):
@@ -73,7 +74,7 @@ def load_image(data, where):
     st = image_find_section(data, SECTION_COMPACT_POLY)[0]
     if st == 0:
         return Tcomp16Q.from_image(data, where=where)
-    if st == -5 and image_find_section(data, SECTION_OFFSET_POLY)[0] == -5:
+    if st == Status.ERR_EMPTY and image_find_section(data, SECTION_OFFSET_POLY)[0] == Status.ERR_EMPTY:
         raise ModelFileError(f"{where}: the image holds neither an offset-polynomial nor a compact section")
     return TcompQ.from_image(data, where=where)
 
