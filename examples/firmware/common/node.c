@@ -1,0 +1,75 @@
+/* node.c - load the calibration from flash (A/B slots), compensate readings,
+ * weigh samples: the calls a firmware makes, in the order it makes them. */
+#include <stdbool.h>
+
+#include "calibration.h"
+#include "node.h"
+#include "sig_chain.h"
+#include "sig_image.h"
+#include "sig_tcomp16.h"
+
+uint8_t node_slot = 0xFFu;
+sig_status node_start_status = SIG_ERR_EMPTY;
+int16_t node_comp_out[CAL_N_READINGS][3];
+sig_status node_comp_status[CAL_N_READINGS];
+int32_t node_weight_q7[CAL_N_SAMPLES];
+uint8_t node_stable[CAL_N_SAMPLES];
+sig_status node_weight_status[CAL_N_SAMPLES];
+
+/* Static, not on the stack: the 8051 has 256 bytes of internal RAM. */
+static sig_tcomp16_q model;
+static sig_chain_q chain;
+static sig_chain_params_q params;
+
+/* Boot: the newer valid slot wins; a slot left invalid by a power cut
+ * while it was written is skipped, so the previous calibration stays. */
+static sig_status load_calibration(void)
+{
+    sig_status st = sig_image_select_slot(cal_slot_a, sizeof cal_slot_a,
+                                          cal_slot_b, sizeof cal_slot_b, &node_slot);
+    if (st < 0)
+        return st;
+    if (node_slot == SIG_IMAGE_SLOT_A)
+        return sig_tcomp16_load_image(&model, cal_slot_a, sizeof cal_slot_a);
+    return sig_tcomp16_load_image(&model, cal_slot_b, sizeof cal_slot_b);
+}
+
+/* Field by field, so a parameter added to the struct later starts at 0 (off). */
+static sig_status start_chain(void)
+{
+    params.a0 = CAL_CHAIN_A0;
+    params.window = CAL_CHAIN_WINDOW;
+    params.q_q30 = CAL_CHAIN_Q_Q30;
+    params.p0_q16 = CAL_CHAIN_P0_Q16;
+    params.x0_q7 = CAL_CHAIN_X0_Q7;
+    params.seed_first = CAL_CHAIN_SEED_FIRST;
+    params.stable_step_q7 = CAL_CHAIN_STABLE_STEP_Q7;
+    params.stable_count = CAL_CHAIN_STABLE_COUNT;
+    params.lockout_n = CAL_CHAIN_LOCKOUT_N;
+    params.motion_band_q7 = CAL_CHAIN_MOTION_BAND_Q7;
+    params.motion_count = CAL_CHAIN_MOTION_COUNT;
+    params.zero_band_q7 = CAL_CHAIN_ZERO_BAND_Q7;
+    params.zero_rate_q7 = CAL_CHAIN_ZERO_RATE_Q7;
+    return sig_chain_init_q(&chain, &params);
+}
+
+sig_status node_demo(void)
+{
+    uint16_t i;
+    bool stable;
+
+    node_start_status = load_calibration();
+    if (node_start_status < 0)
+        return node_start_status;
+    node_start_status = start_chain();
+    if (node_start_status < 0)
+        return node_start_status;
+    for (i = 0; i < CAL_N_READINGS; i++)
+        node_comp_status[i] = sig_tcomp16_apply_q(&model, cal_temp_centi[i], cal_readings[i],
+                                                  node_comp_out[i]);
+    for (i = 0; i < CAL_N_SAMPLES; i++) {
+        node_weight_status[i] = sig_chain_step_q(&chain, cal_samples[i], &node_weight_q7[i], &stable);
+        node_stable[i] = stable ? 1u : 0u;
+    }
+    return node_start_status;
+}
