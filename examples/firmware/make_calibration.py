@@ -87,7 +87,7 @@ def _bytes_c(hexstr, indent="    ", per_line=16):
 def header(cal):
     """The text of calibration.h."""
     ch = cal["chain"]
-    chain_defs = "\n".join(f"#define CAL_CHAIN_{k.upper():<16} {_c_value(k, v)}" for k, v in ch.items())
+    chain_fields = ", \\\n    ".join(f".{k} = {_c_value(k, v)}" for k, v in ch.items())
     readings = ",\n    ".join("{ " + ", ".join(map(str, r)) + " }" for r in cal["readings"])
     samples = ",\n    ".join(", ".join(f"INT32_C({v})" for v in cal["samples"][i:i + 6])
                              for i in range(0, len(cal["samples"]), 6))
@@ -118,7 +118,9 @@ static const uint8_t cal_slot_b[CAL_SLOT_BYTES] = {{
     {_bytes_c(cal['slot_b'])}
 }};
 
-{chain_defs}
+/* sig_chain_params_q of the load cell (designated: fields added later start at 0). */
+#define CAL_CHAIN_PARAMS_Q {{ \\
+    {chain_fields} }}
 
 /* Temperatures in 0.01 °C and readings in LSB, as the sensors give them. */
 static const int16_t cal_temp_centi[CAL_N_READINGS] = {{ {', '.join(map(str, cal['temp_centi']))} }};

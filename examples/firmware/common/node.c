@@ -19,7 +19,8 @@ sig_status node_weight_status[CAL_N_SAMPLES];
 /* Static, not on the stack: the 8051 has 256 bytes of internal RAM. */
 static sig_tcomp16_q model;
 static sig_chain_q chain;
-static sig_chain_params_q params;
+/* Designated fields: a parameter added to the struct later starts at 0 (off). */
+static const sig_chain_params_q chain_params = CAL_CHAIN_PARAMS_Q;
 
 /* Boot: the newer valid slot wins; a slot left invalid by a power cut
  * while it was written is skipped, so the previous calibration stays. */
@@ -34,25 +35,6 @@ static sig_status load_calibration(void)
     return sig_tcomp16_load_image(&model, cal_slot_b, sizeof cal_slot_b);
 }
 
-/* Field by field, so a parameter added to the struct later starts at 0 (off). */
-static sig_status start_chain(void)
-{
-    params.a0 = CAL_CHAIN_A0;
-    params.window = CAL_CHAIN_WINDOW;
-    params.q_q30 = CAL_CHAIN_Q_Q30;
-    params.p0_q16 = CAL_CHAIN_P0_Q16;
-    params.x0_q7 = CAL_CHAIN_X0_Q7;
-    params.seed_first = CAL_CHAIN_SEED_FIRST;
-    params.stable_step_q7 = CAL_CHAIN_STABLE_STEP_Q7;
-    params.stable_count = CAL_CHAIN_STABLE_COUNT;
-    params.lockout_n = CAL_CHAIN_LOCKOUT_N;
-    params.motion_band_q7 = CAL_CHAIN_MOTION_BAND_Q7;
-    params.motion_count = CAL_CHAIN_MOTION_COUNT;
-    params.zero_band_q7 = CAL_CHAIN_ZERO_BAND_Q7;
-    params.zero_rate_q7 = CAL_CHAIN_ZERO_RATE_Q7;
-    return sig_chain_init_q(&chain, &params);
-}
-
 sig_status node_demo(void)
 {
     uint16_t i;
@@ -61,7 +43,7 @@ sig_status node_demo(void)
     node_start_status = load_calibration();
     if (node_start_status < 0)
         return node_start_status;
-    node_start_status = start_chain();
+    node_start_status = sig_chain_init_q(&chain, &chain_params);
     if (node_start_status < 0)
         return node_start_status;
     for (i = 0; i < CAL_N_READINGS; i++)
