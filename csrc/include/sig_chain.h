@@ -22,7 +22,8 @@
  *    |x - offset| <= zero_band, the offset moves towards x by at most
  *    zero_rate per sample.
  *
- * Fixed form (_q): int32 ADC codes in (clamped to +-SIG_CODE_MAX, status
+ * Fixed form (_q; Q0 in, Q24.7 out: not the Q format of other modules' _q):
+ * int32 ADC codes in (clamped to +-SIG_CODE_MAX, status
  * SIG_WARN_CLAMPED); output, offset, thresholds of the Kalman side in Q24.7
  * (codes * 128); see sig_kalman1.h for the gain formats.
  *

@@ -20,7 +20,8 @@
 
 #include "sig_status.h"   /* sig_status, SIG_OK, SIG_WARN_*, SIG_ERR_* */
 
-/* Floating-point type of the float builds.  Firmware uses float (the MCUs
+/* Every `_f` function takes sig_real: double on the host, float on the MCUs.
+ * Floating-point type of the float builds.  Firmware uses float (the MCUs
  * have no double helpers; sdcc's double is float).  The host Python build
  * defines SIG_REAL_DOUBLE so numpy float64 arrays pass through unconverted. */
 #ifdef SIG_REAL_DOUBLE
