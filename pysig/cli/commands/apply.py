@@ -15,7 +15,7 @@ from ...tcomp import model as tmodel
 from ...tcomp import quant
 from ...errors import InputFileError, ModelFileError, NonFiniteError, RangeError
 from ...io import read_csv, write_csv
-from ...status import Status
+from ...status import Status, Warn
 
 
 def register(sub):
@@ -54,7 +54,7 @@ def compensate_fixed(c, temp, readings):
         raise RangeError("apply: the fixed-point path needs integer int16 readings")
     t = quant.to_centi(np.clip(temp, -327.68, 327.67))
     out, status = c.apply(t, x)
-    return [out[:, a].astype(np.int64) for a in range(out.shape[1])], (status & 1).astype(bool)
+    return [out[:, a].astype(np.int64) for a in range(out.shape[1])], (status & Warn.WARN_CLAMPED).astype(bool)
 
 
 def is_image(path):

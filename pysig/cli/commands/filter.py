@@ -20,6 +20,7 @@ from ...weigh.chain import PRESETS, Chain
 from ...errors import InputFileError, NonFiniteError, SaturationError
 from ...reference.chain import CODE_MAX
 from ...io import read_csv, write_csv
+from ...status import Warn
 
 
 
@@ -107,7 +108,7 @@ def run(args):
     if args.status:
         out["status"] = status.astype(np.int64)
     write_csv(args.output, out)
-    rejected = int(np.count_nonzero(status & 4))
+    rejected = int(np.count_nonzero(status & Warn.WARN_REJECTED))
     print(f"wrote {args.output}: {x.size} rows, preset {args.preset}"
           f"{' (fixed point)' if args.fixed else ''}, {rejected} samples replaced as impulses, "
           f"stable on {np.mean(stable) * 100:.1f} % of rows")
