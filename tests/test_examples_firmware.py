@@ -14,7 +14,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT, require_tool
+from conftest import ROOT, require_shared_data, require_tool
 
 from pysig.mcu import runner
 from pysig.status import Status, Warn
@@ -38,13 +38,21 @@ def tools(target):
         require_tool("s51")
 
 
-@pytest.fixture(scope="module", params=["newest", "torn-b"])
+MPU6000 = "mpu6000_gyro_offset_vs_temp/mpu6000_sn102_gyro_offset.csv"
+
+
+@pytest.fixture(scope="module", params=["newest", "torn-b", "mpu6000"])
 def calibration(request, tmp_path_factory):
-    """calibration.h and its JSON twin from make_calibration.py: slot B
-    newest and whole, or slot B cut off half-written."""
+    """calibration.h and its JSON twin from make_calibration.py: the
+    simulated chamber with slot B newest and whole, or slot B cut off
+    half-written; and the real MPU-6000 gyro offsets (3 axes, 6.7..41 °C)."""
     out = tmp_path_factory.mktemp(f"cal-{request.param}")
     cmd = [sys.executable, str(FIRMWARE / "make_calibration.py"), "-o", str(out / "calibration.h"),
-           "--json", str(out / "calibration.json")] + (["--torn-b"] if request.param == "torn-b" else [])
+           "--json", str(out / "calibration.json")]
+    if request.param == "torn-b":
+        cmd.append("--torn-b")
+    if request.param == "mpu6000":
+        cmd += ["--input", str(require_shared_data(MPU6000)), "--columns", "gyro_x,gyro_y,gyro_z"]
     res = subprocess.run(cmd, capture_output=True, text=True)
     assert res.returncode == 0, res.stderr
     return out, json.loads((out / "calibration.json").read_text()), request.param
@@ -66,8 +74,8 @@ def host(cal):
 
 
 def reads(cal):
-    n, m = len(cal["readings"]), len(cal["samples"])
-    return {"node_slot": 1, "node_start_status": 2, "node_comp_out": 6 * n, "node_comp_status": 2 * n,
+    n, m, axes = len(cal["readings"]), len(cal["samples"]), len(cal["axes"])
+    return {"node_slot": 1, "node_start_status": 2, "node_comp_out": 2 * axes * n, "node_comp_status": 2 * n,
             "node_weight_q7": 4 * m, "node_stable": m, "node_weight_status": 2 * m}
 
 
@@ -76,7 +84,7 @@ def decode(raw, cal):
         return np.frombuffer(raw[name], dtype=fmt).astype(int).tolist()
     n = len(cal["readings"])
     return {"slot": raw["node_slot"][0], "start": ints("node_start_status", "<i2")[0],
-            "comp": np.array(ints("node_comp_out", "<i2")).reshape(n, 3).tolist(),
+            "comp": np.array(ints("node_comp_out", "<i2")).reshape(n, len(cal["axes"])).tolist(),
             "comp_status": ints("node_comp_status", "<i2"), "q7": ints("node_weight_q7", "<i4"),
             "stable": ints("node_stable", "u1"), "chain_status": ints("node_weight_status", "<i2")}
 

@@ -5,20 +5,23 @@
 What it writes, all from pysig (the same code `pysig fit` and `pysig export
 --format image` run):
 
-* two flash slots of SLOT_BYTES each, as const arrays standing for the flash
-  regions a firmware reserves for its calibration (erased flash reads 0xFF):
-  slot A the factory calibration (order-1 fit, sequence 1), slot B a later
-  recalibration (order-2 fit, sequence 2).  The firmware's loader
-  (sig_image_select_slot) takes the newer valid one: B.  With --torn-b, B
-  holds an image whose writing was cut off half way (the rest still erased),
-  and the loader falls back to A.
+* two flash slots of SLOT_BYTES each, const arrays standing for the flash
+  regions a firmware reserves for its calibration (erased flash reads 0xFF),
+  fitted on the calibration data (by default the simulated thermal chamber,
+  pysig.sim.chamber, seeded: a 3-axis magnetometer; or --input recordings
+  with 1 to 3 int16 reading columns): slot A the factory calibration
+  (order 1, sequence 1), slot B a later recalibration (--order, default 2,
+  sequence 2), both in the compact form (sig_tcomp16: 16x16 products, what
+  the MCUs multiply fastest).  The firmware's loader (sig_image_select_slot)
+  takes the newer valid one: B.  With --torn-b, B holds an image whose
+  writing was cut off half way (the rest still erased): the loader falls
+  back to A.
 * the weighing chain's fixed-point parameters (sig_chain_params_q) for the
   load cell, from pysig's preset and the cell's scale (--units-per-kg).
-* demo inputs standing for the sensors: temperatures and 3-axis readings of
-  the simulated thermal chamber (pysig.sim.chamber, seeded), one of them
-  beyond the calibrated range (the firmware clamps and flags it), and raw
-  HX711 load-cell codes from the recording bundled with pysig (a read
-  glitch, then a 10-lb step).
+* demo inputs standing for the sensors: temperatures and readings of the
+  calibration data spread over its range, one more beyond it (the firmware
+  clamps and flags it), and raw HX711 load-cell codes from the recording
+  bundled with pysig (a read glitch, then a 10-lb step).
 
 --json FILE also writes the same data for a host-side check (the example
 firmware test compares what the simulators read back with pysig on it).
@@ -30,6 +33,7 @@ import sys
 
 import numpy as np
 
+from pysig.errors import RangeError
 from pysig.io import atomic_output, read_csv
 from pysig.sim import chamber
 from pysig.store.image import compact_image
@@ -37,10 +41,10 @@ from pysig.tcomp import quant
 from pysig.tcomp.fit import fit_tcomp
 from pysig.weigh.chain import chain_fixed_params, chain_params
 
-SLOT_BYTES = 128                  # flash reserved per slot; an image is 71 bytes here
+SLOT_BYTES = 128                  # flash reserved per slot: a 3-axis order-5 compact image is 92 bytes
 ERASED = 0xFF
-DEMO_TEMPS_C = (0.0, 25.0, 50.0, 70.0)
-OUT_OF_RANGE_C = 85.0             # above the chamber's 70 °C: clamped, SIG_WARN_CLAMPED
+DEMO_READINGS = 4                 # readings spread over the calibrated range
+BEYOND_RANGE_C = 15.0             # one more reading this far above it: clamped, SIG_WARN_CLAMPED
 HX711_FILE = "hx711_steps_10hz.csv"
 HX711_COLUMN = "lc1_counts"
 HX711_ROWS = slice(66, 186)       # a read glitch (row 73), then a 10-lb step (rows 163-166)
@@ -51,23 +55,49 @@ def slot(image, torn=False):
     """An image in a flash slot of SLOT_BYTES, the rest erased; torn: only
     the first half of the image was written before the power cut."""
     if len(image) > SLOT_BYTES:
-        raise ValueError(f"image of {len(image)} bytes does not fit a {SLOT_BYTES}-byte slot")
+        raise RangeError(f"image of {len(image)} bytes does not fit a {SLOT_BYTES}-byte slot")
     written = image[:len(image) // 2] if torn else image
     return written + bytes([ERASED]) * (SLOT_BYTES - len(written))
 
 
-def calibration(torn_b=False, units_per_kg=HX711_COUNTS_PER_KG, seed=0):
-    """Everything calibration.h holds, as a dict of plain Python values."""
+def chamber_data(seed=0):
+    """(temperature °C, {axis: int readings}) of the simulated thermal chamber."""
     data = chamber.simulate(chamber.ChamberParams(seed=seed))
-    axes = {a: data[a] for a in "xyz"}
-    factory = fit_tcomp(data["temp"], axes, order=1)
-    recal = fit_tcomp(data["temp"], axes, order=2)
-    rows = [int(np.argmin(np.abs(data["temp"] - t))) for t in DEMO_TEMPS_C]
-    temps = [float(data["temp"][r]) for r in rows] + [OUT_OF_RANGE_C]
-    readings = [[int(data[a][r]) for a in "xyz"] for r in rows + rows[-1:]]
+    return data["temp"], {a: data[a] for a in "xyz"}
+
+
+def recorded_data(paths, temp, columns):
+    """(temperature °C, {column: int readings}) from CSV/Parquet recordings:
+    readings must be integer sensor codes within int16 (what the firmware
+    reads); RangeError naming the column otherwise."""
+    parts = [read_csv(str(p), columns=[temp, *columns]) for p in paths]
+    t = np.concatenate([np.asarray(d[temp], dtype=float) for d in parts])
+    axes = {}
+    for c in columns:
+        y = np.concatenate([np.asarray(d[c], dtype=float) for d in parts])
+        bad = np.flatnonzero((y != np.round(y)) | (y < -32768) | (y > 32767))
+        if bad.size:
+            raise RangeError(f"column {c!r}, row {int(bad[0]) + 1}: {float(y[bad[0]])!r} is not an int16 "
+                             f"sensor code (the firmware compensates raw int16 readings)")
+        axes[c] = y.astype(np.int64)
+    return t, axes
+
+
+def calibration(temp, axes, torn_b=False, order=2, units_per_kg=HX711_COUNTS_PER_KG):
+    """Everything calibration.h holds, as a dict of plain Python values:
+    slot A an order-1 fit of (temp, axes), slot B an order-`order` fit."""
+    if not 1 <= len(axes) <= 3:
+        raise RangeError(f"{len(axes)} axes: the compensation takes 1 to 3")
+    factory = fit_tcomp(temp, axes, order=1, what="factory calibration")
+    recal = fit_tcomp(temp, axes, order=order, what="recalibration")
+    lo, hi = float(np.min(temp)), float(np.max(temp))
+    rows = [int(np.argmin(np.abs(temp - t))) for t in np.linspace(lo, hi, DEMO_READINGS)]
+    temps = [float(temp[r]) for r in rows] + [hi + BEYOND_RANGE_C]
+    readings = [[int(y[r]) for y in axes.values()] for r in rows + rows[-1:]]
     counts = read_csv(str(importlib.resources.files("pysig.data") / HX711_FILE), columns=[HX711_COLUMN])
     samples = [int(v) for v in np.asarray(counts[HX711_COLUMN])[HX711_ROWS]]
     return {
+        "axes": list(axes),
         "slot_a": slot(compact_image(quant.quantize_compact(factory), sequence=1)).hex(),
         "slot_b": slot(compact_image(quant.quantize_compact(recal), sequence=2), torn=torn_b).hex(),
         "chain": chain_fixed_params(chain_params("recommended", units_per_kg=units_per_kg)),
@@ -104,7 +134,7 @@ def header(cal):
 #include <stdbool.h>
 
 #define CAL_SLOT_BYTES {SLOT_BYTES}u
-#define CAL_N_AXES     3u
+#define CAL_N_AXES     {len(cal['axes'])}u
 #define CAL_N_READINGS {len(cal['readings'])}u
 #define CAL_N_SAMPLES  {len(cal['samples'])}u
 
@@ -160,10 +190,20 @@ def main(argv=None):
     ap.add_argument("--json", help="also write the same data as JSON (for host-side checks)")
     ap.add_argument("--torn-b", action="store_true",
                     help="slot B holds a half-written image: the loader must fall back to A")
+    ap.add_argument("--input", nargs="+", metavar="CSV",
+                    help="calibrate from these recordings instead of the simulated chamber")
+    ap.add_argument("--temp", default="temp_c", help="temperature column in °C (with --input)")
+    ap.add_argument("--columns", default="x,y,z",
+                    help="1 to 3 comma-separated int16 reading columns (with --input)")
+    ap.add_argument("--order", type=int, default=2, help="order of the slot-B recalibration (default 2)")
     ap.add_argument("--units-per-kg", type=float, default=HX711_COUNTS_PER_KG,
                     help=f"load-cell scale, counts per kg (default {HX711_COUNTS_PER_KG:g})")
     args = ap.parse_args(argv)
-    cal = calibration(torn_b=args.torn_b, units_per_kg=args.units_per_kg)
+    if args.input:
+        temp, axes = recorded_data(args.input, args.temp, args.columns.split(","))
+    else:
+        temp, axes = chamber_data()
+    cal = calibration(temp, axes, torn_b=args.torn_b, order=args.order, units_per_kg=args.units_per_kg)
     with atomic_output(args.output) as fh:
         fh.write(header(cal))
     if args.json:

@@ -10,7 +10,7 @@
 
 uint8_t node_slot = 0xFFu;
 sig_status node_start_status = SIG_ERR_EMPTY;
-int16_t node_comp_out[CAL_N_READINGS][3];
+int16_t node_comp_out[CAL_N_READINGS * CAL_N_AXES];
 sig_status node_comp_status[CAL_N_READINGS];
 int32_t node_weight_q7[CAL_N_SAMPLES];
 uint8_t node_stable[CAL_N_SAMPLES];
@@ -48,7 +48,7 @@ sig_status node_demo(void)
         return node_start_status;
     for (i = 0; i < CAL_N_READINGS; i++)
         node_comp_status[i] = sig_tcomp16_apply_q(&model, cal_temp_centi[i], cal_readings[i],
-                                                  node_comp_out[i]);
+                                                  &node_comp_out[i * CAL_N_AXES]);
     for (i = 0; i < CAL_N_SAMPLES; i++) {
         node_weight_status[i] = sig_chain_step_q(&chain, cal_samples[i], &node_weight_q7[i], &stable);
         node_stable[i] = stable ? 1u : 0u;

@@ -1,5 +1,5 @@
 /* node.h - the application of the example firmware, the same on every
- * target: a sensor node with a 3-axis sensor (temperature-compensated) and a
+ * target: a sensor node with a 1- to 3-axis sensor (temperature-compensated) and a
  * load cell (weighing chain).  Each target's main.c does its own start-up
  * and calls node_demo(); the results stay in the node_* globals, where a
  * debugger or the simulator reads them.
@@ -20,7 +20,7 @@ extern uint8_t node_slot;                              /* SIG_IMAGE_SLOT_A / _B,
 extern sig_status node_start_status;                   /* slot selection, load, chain init */
 /* One row per demo reading / sample (sizes: calibration.h, which only node.c
  * includes: its const arrays are defined where they are used). */
-extern int16_t node_comp_out[][3];                     /* compensated readings, LSB */
+extern int16_t node_comp_out[];                        /* compensated readings, LSB, row-major */
 extern sig_status node_comp_status[];
 extern int32_t node_weight_q7[];                       /* chain output, Q24.7 counts */
 extern uint8_t node_stable[];                          /* 1 when the weight is stable */
