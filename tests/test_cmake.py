@@ -5,6 +5,7 @@ warnings fire), run the tests/c unit tests through ctest, install the
 headers and a CMake package, and build a program against the installed
 package with find_package(sigcore).  With clang the libFuzzer harnesses are
 targets too, and ctest replays their seed corpora."""
+import re
 import subprocess
 
 import pytest
@@ -73,3 +74,17 @@ def test_clang_builds_fuzz_harnesses_and_replays_corpora(tmp_path):
     _, tested = configure_build_test(tmp_path, clang, "-DSIG_BUILD_FUZZ=ON")
     harnesses = sorted(p.stem for p in (ROOT / "fuzz").glob("fuzz_*.c"))
     assert all(f" {h}_corpus " in tested for h in harnesses), tested
+
+
+def test_msp430_toolchain_file_cross_builds_the_library(tmp_path):
+    require_tool("clang-14", "clang")
+    require_tool("llvm-ar-14", "llvm-ar")
+    cmake = require_tool("cmake")
+    objdump = require_tool("llvm-objdump-14", "llvm-objdump")
+    build = tmp_path / "build"
+    run([cmake, "-S", ROOT, "-B", build, f"-DCMAKE_TOOLCHAIN_FILE={ROOT / 'cmake' / 'msp430-clang.cmake'}"])
+    out = run([cmake, "--build", build, "-j2"])
+    assert "warning" not in out.lower(), out
+    formats = set(re.findall(r"file format (\S+)", run([objdump, "-f", build / "libsigcore.a"])))
+    assert formats == {"elf32-msp430"}
+    assert not (build / "CTestTestfile.cmake").exists()     # no host tests in a cross build
