@@ -31,7 +31,6 @@
 #define REQUIRE(cond) do { if (!(cond)) abort(); } while (0)
 #define STEPS 24
 
-static int finite_real(sig_real x) { return x - x == 0; }
 static int moderate(sig_real x) { return x >= (sig_real)-1e18 && x <= (sig_real)1e18; }
 static int32_t sat32(int64_t v) { return v > INT32_MAX ? INT32_MAX : v < INT32_MIN ? INT32_MIN : (int32_t)v; }
 static int at_rail(int32_t v) { return v == INT32_MAX || v == INT32_MIN; }
@@ -172,7 +171,7 @@ static void float_effects(fuzz_input *in)
     memset(&lag, 0x29, sizeof lag);
     lag_before = lag;
     lag_ok = sig_lag_init_f(&lag, alpha) == SIG_OK;
-    REQUIRE(lag_ok == (finite_real(alpha) && alpha > 0 && alpha <= 1));
+    REQUIRE(lag_ok == (sig_real_isfinite(alpha) && alpha > 0 && alpha <= 1));
     if (!lag_ok) REQUIRE(memcmp(&lag, &lag_before, sizeof lag) == 0);
     memset(&h, 0x29, sizeof h);
     h_before = h;
@@ -184,7 +183,7 @@ static void float_effects(fuzz_input *in)
     cx_ok = sig_cross_init_f(&cx, kx, 3) == SIG_OK;
     for (n = 0; n < STEPS && fuzz_left(in) > 0; n++) {
         sig_real x = fuzz_real(in), u = fuzz_real(in), o[3], out = 0, b = 0, c = 0, y = 0;
-        int fin = finite_real(x), small;
+        int fin = sig_real_isfinite(x), small;
         sig_status st;
         o[0] = fuzz_real(in); o[1] = fuzz_real(in); o[2] = fuzz_real(in);
         small = params_moderate && moderate(x) && moderate(u) && moderate(o[0]) && moderate(o[1])

@@ -118,7 +118,6 @@ static void fuzz_fixed(fuzz_input *in)
     }
 }
 
-static int finite_real(sig_real x) { return x == x && x - x == 0; }
 
 static void fuzz_float(fuzz_input *in)
 {
@@ -157,7 +156,7 @@ static void fuzz_float(fuzz_input *in)
         for (a = 0; a < 3; a++) {
             r[a] = (steer & 4u) ? fuzz_real(in) : (sig_real)fuzz_i16(in);
             out[a] = (sig_real)777;
-            if (a < n_axes && !finite_real(r[a])) any_nonfinite = 1;
+            if (a < n_axes && !sig_real_isfinite(r[a])) any_nonfinite = 1;
         }
         st = sig_tcomp_apply_f(&m, t, r, out);
         if (t != t || any_nonfinite) {

@@ -7,6 +7,7 @@
  * each axis evaluates all N_TEMPS temperatures; the same loop around
  * bench_null measures the loop's own overhead. */
 #include <stdint.h>
+#include "../mcu/harness/bench_marks.h"   /* NOINLINE and the marker functions */
 #include "sig_pwl.h"
 #include "pareto_case.h"
 
@@ -23,20 +24,6 @@ int32_t null_out[N_AXES][N_TEMPS];
 int16_t null_status[N_AXES][N_TEMPS];
 sig_pwl_q16 pwl[N_AXES];
 
-#if defined(__clang__) || defined(__GNUC__)
-#define NOINLINE __attribute__((noinline))
-#else
-#define NOINLINE
-#endif
-
-volatile uint8_t bench_mark;
-NOINLINE void bench_start(void) { bench_mark = 1; }
-NOINLINE void bench_axis1(void) { bench_mark = 2; }
-NOINLINE void bench_axis2(void) { bench_mark = 3; }
-NOINLINE void bench_stop(void) { bench_mark = 4; }
-NOINLINE void bench_null_start(void) { bench_mark = 5; }
-NOINLINE void bench_null_stop(void) { bench_mark = 6; }
-NOINLINE void bench_done(void) { bench_mark = 7; }
 /* same signature and loop as the function under test, no work */
 NOINLINE sig_status bench_null(const sig_pwl_q16 *p, int16_t t, int32_t *o)
 {

@@ -3,6 +3,7 @@
  * read back by tests/test_pareto.py.  pareto_case.h defines N_KNOTS,
  * N_TEMPS, TABLE_F, T_LO_F, T_HI_F, INV_STEP_F and TEMPS_F. */
 #include <stdint.h>
+#include "../mcu/harness/bench_marks.h"   /* NOINLINE and the marker functions */
 #include "sig_pwl.h"
 #include "pareto_case.h"
 
@@ -14,17 +15,6 @@ int16_t status[N_TEMPS];
 int16_t init_status;
 sig_real first_out;
 sig_pwl_f pwl;
-
-#if defined(__clang__) || defined(__GNUC__)
-#define NOINLINE __attribute__((noinline))
-#else
-#define NOINLINE
-#endif
-
-volatile uint8_t bench_mark;
-NOINLINE void bench_start(void) { bench_mark = 1; }
-NOINLINE void bench_stop(void) { bench_mark = 2; }
-NOINLINE void bench_done(void) { bench_mark = 3; }
 
 int main(void)
 {

@@ -22,7 +22,8 @@
  *    |x - offset| <= zero_band, the offset moves towards x by at most
  *    zero_rate per sample.
  *
- * Fixed form (_q): int32 ADC codes in (clamped to +-SIG_CODE_MAX, status
+ * Fixed form (_q; Q0 in, Q24.7 out: not the Q format of other modules' _q):
+ * int32 ADC codes in (clamped to +-SIG_CODE_MAX, status
  * SIG_WARN_CLAMPED); output, offset, thresholds of the Kalman side in Q24.7
  * (codes * 128); see sig_kalman1.h for the gain formats.
  *
@@ -58,10 +59,7 @@
 #include "sig_stable.h"
 #include "sig_noise.h"
 
-#define SIG_CHAIN_MOTION ((sig_status)32)   /* motion detected: window and P restarted */
-#define SIG_CHAIN_TARED  ((sig_status)64)   /* a pending tare was applied on this sample */
-#define SIG_CHAIN_NOISE_FLOOR ((sig_status)128)   /* noise_auto: the measured noise is at its floor
-                                                     (stuck sensor, or below a quarter code) */
+/* SIG_CHAIN_MOTION, SIG_CHAIN_TARED, SIG_CHAIN_NOISE_FLOOR: sig_status.h */
 
 /* noise_auto: a count goes up by one on each sample the noise estimator
  * skips (restart, re-seed, hold-off, a motion run, an impulse) and down by

@@ -23,7 +23,7 @@
 
 #include "sig_types.h"
 
-#define SIG_LIMIT_RESEEDED ((sig_status)16)   /* lock-out fix accepted and re-seeded */
+/* SIG_LIMIT_RESEEDED (lock-out fix accepted and re-seeded): sig_status.h */
 
 typedef struct {
     sig_real a0;        /* threshold, > 0, signal units */

@@ -7,7 +7,7 @@
  * hot path: the segment position comes from one multiply by a precomputed
  * reciprocal and constant shifts.
  *
- * Fixed-point form (sig_pwl_q16):
+ * Fixed-point form (sig_pwl_q16; "q16" names the Q16.16 output):
  *   temperature   int16_t, the unit of the temperature-compensation module
  *                 (sig_tcomp.h: 0.01 °C); the table only needs it linear in T.
  *   d             t - t_lo after clamping to [t_lo, t_hi], 0 <= d <= 65535.

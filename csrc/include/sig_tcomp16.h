@@ -2,6 +2,7 @@
  * the offset polynomial of sig_tcomp.h (same model, same clamping), spelt
  * for a 16x16 hardware multiplier.  Every product is an UNSIGNED 16x16->32
  * product, no shift is variable except one per call, no int64.
+ * (Name: "16" is the multiplicand width, not a Q format; see docs/c-api.md.)
  *
  *     out = sat16(in - round(delta(t))),   delta(t) = f(t) - f(T0)
  *

@@ -1,4 +1,4 @@
-/* sig_types.h - shared types, status codes and saturating fixed-point helpers.
+/* sig_types.h - shared types (status codes: sig_status.h) and saturating fixed-point helpers.
  *
  * Portable C99 for hosts, MSP430 (clang) and 8051 (sdcc).  `int` is 16 bits
  * on both MCUs: every width here is explicit.  No libc beyond stdint/stddef/
@@ -18,7 +18,10 @@
 #include <stddef.h>
 #include <stdbool.h>
 
-/* Floating-point type of the float builds.  Firmware uses float (the MCUs
+#include "sig_status.h"   /* sig_status, SIG_OK, SIG_WARN_*, SIG_ERR_* */
+
+/* Every `_f` function takes sig_real: double on the host, float on the MCUs.
+ * Floating-point type of the float builds.  Firmware uses float (the MCUs
  * have no double helpers; sdcc's double is float).  The host Python build
  * defines SIG_REAL_DOUBLE so numpy float64 arrays pass through unconverted. */
 #ifdef SIG_REAL_DOUBLE
@@ -28,21 +31,6 @@ typedef double sig_real;
 typedef float sig_real;
 #define SIG_REAL(x) (x##f)
 #endif
-
-/* Status codes: 0 is success, positive values are warnings whose result is
- * still valid (bit flags, may be OR-ed), negative values are errors that left
- * the caller's state unchanged. */
-typedef int16_t sig_status;
-#define SIG_OK              ((sig_status)0)
-#define SIG_WARN_CLAMPED    ((sig_status)1)   /* input clamped to its valid range */
-#define SIG_WARN_SATURATED  ((sig_status)2)   /* output saturated at its rail */
-#define SIG_WARN_REJECTED   ((sig_status)4)   /* sample rejected (impulse / non-finite) */
-#define SIG_ERR_ARG         ((sig_status)-1)  /* NULL pointer or parameter out of range */
-#define SIG_ERR_NONFINITE   ((sig_status)-2)  /* NaN or inf where a finite value is needed */
-#define SIG_ERR_FORMAT      ((sig_status)-3)  /* malformed data (image magic, version, size) */
-#define SIG_ERR_CRC         ((sig_status)-4)  /* checksum mismatch */
-#define SIG_ERR_EMPTY       ((sig_status)-5)  /* nothing valid to load / no data yet */
-#define SIG_ERR_DEVICE      ((sig_status)-6)  /* valid image, but made for another device */
 
 #define SIG_Q16_ONE INT32_C(65536)
 
@@ -63,6 +51,7 @@ int32_t sig_abs32_sat(int32_t x);
 int32_t sig_asr32(int32_t x, uint8_t n);
 int32_t sig_shl32_sat(int32_t x, uint8_t n);
 int32_t sig_mul_q16_sat(int32_t a, int32_t b);
+bool sig_real_isfinite(sig_real x);
 #else
 #ifdef __SDCC
 #define SIG_HELPER              /* sig_types.c: the one external definition */
@@ -153,6 +142,15 @@ SIG_HELPER int32_t sig_mul_q16_sat(int32_t a, int32_t b)
     }
     if (hi > limit) return INT32_MIN;
     return hi == limit ? INT32_MIN : -(int32_t)hi;
+}
+
+/* true for a finite x, false for NaN and +-inf: x - x is 0 for every finite
+ * x and NaN otherwise, and NaN compares unequal to everything.  The one
+ * finiteness test of the library (no <math.h>: isfinite is not available on
+ * every target).  Needs IEEE comparisons: do not build with -ffast-math. */
+SIG_HELPER bool sig_real_isfinite(sig_real x)
+{
+    return x - x == SIG_REAL(0.0);
 }
 
 #endif /* __SDCC && !SIG_TYPES_DEFINE */

@@ -16,12 +16,6 @@ static sig_status flag_rail(sig_status st, int32_t v)
     return at_rail(v) ? (sig_status)(st | SIG_WARN_SATURATED) : st;
 }
 
-static bool finite_real(sig_real x)
-{
-    sig_real d = x - x;          /* 0 for finite x, NaN for inf and NaN */
-    return d == SIG_REAL(0.0);
-}
-
 /* floor((v + 2^(n-1)) / 2^n), v's rail flagged by the caller */
 static int32_t round_shift(int32_t v, uint8_t n)
 {
@@ -73,7 +67,7 @@ sig_status sig_lag_step_q(sig_lag_q *s, int32_t x, int32_t *out)
 
 sig_status sig_lag_init_f(sig_lag_f *s, sig_real alpha)
 {
-    if (s == NULL || !finite_real(alpha) || !(alpha > SIG_REAL(0.0)) || alpha > SIG_REAL(1.0))
+    if (s == NULL || !sig_real_isfinite(alpha) || !(alpha > SIG_REAL(0.0)) || alpha > SIG_REAL(1.0))
         return SIG_ERR_ARG;
     s->alpha = alpha;
     s->z = SIG_REAL(0.0);
@@ -92,7 +86,7 @@ sig_status sig_lag_reset_f(sig_lag_f *s)
 sig_status sig_lag_step_f(sig_lag_f *s, sig_real x, sig_real *out)
 {
     if (s == NULL || out == NULL) return SIG_ERR_ARG;
-    if (!finite_real(x)) return SIG_ERR_NONFINITE;
+    if (!sig_real_isfinite(x)) return SIG_ERR_NONFINITE;
     if (!s->primed) {
         s->z = x;
         s->primed = true;
@@ -153,7 +147,7 @@ sig_status sig_hyst_step_q(sig_hyst_q *s, int16_t t, int16_t *branch, int32_t *c
 
 sig_status sig_hyst_init_f(sig_hyst_f *s, sig_real width, sig_real k, int8_t start)
 {
-    if (s == NULL || !finite_real(width) || !finite_real(k) || !(width > SIG_REAL(0.0))
+    if (s == NULL || !sig_real_isfinite(width) || !sig_real_isfinite(k) || !(width > SIG_REAL(0.0))
         || start < -1 || start > 1) return SIG_ERR_ARG;
     s->width = width;
     s->start = start;
@@ -175,7 +169,7 @@ sig_status sig_hyst_step_f(sig_hyst_f *s, sig_real t, sig_real *branch, sig_real
 {
     sig_real p;
     if (s == NULL || branch == NULL || contribution == NULL) return SIG_ERR_ARG;
-    if (!finite_real(t)) return SIG_ERR_NONFINITE;
+    if (!sig_real_isfinite(t)) return SIG_ERR_NONFINITE;
     if (!s->primed) {
         p = t - (sig_real)s->start * s->width;
     } else {
@@ -233,7 +227,7 @@ sig_status sig_creep_step_q(sig_creep_q *s, int32_t x, int32_t *contribution, in
 sig_status sig_creep_init_f(sig_creep_f *s, sig_real alpha, sig_real k)
 {
     sig_lag_f lag;
-    if (s == NULL || !finite_real(k)) return SIG_ERR_ARG;
+    if (s == NULL || !sig_real_isfinite(k)) return SIG_ERR_ARG;
     if (sig_lag_init_f(&lag, alpha) != SIG_OK) return SIG_ERR_ARG;
     s->lag = lag;
     s->k = k;
@@ -287,7 +281,7 @@ sig_status sig_gain_init_f(sig_gain_f *g, const sig_real *coef, uint8_t order)
     uint8_t k;
     if (g == NULL || coef == NULL || order > SIG_POLY_MAX_ORDER) return SIG_ERR_ARG;
     for (k = 0u; k <= order; ++k) {
-        if (!finite_real(coef[k])) return SIG_ERR_NONFINITE;
+        if (!sig_real_isfinite(coef[k])) return SIG_ERR_NONFINITE;
     }
     for (k = 0u; k <= order; ++k) g->coef[k] = coef[k];
     g->order = order;
@@ -299,7 +293,7 @@ sig_status sig_gain_apply_f(const sig_gain_f *g, sig_real u, sig_real x, sig_rea
     sig_status st;
     sig_real gain;
     if (g == NULL || out == NULL) return SIG_ERR_ARG;
-    if (!finite_real(x)) return SIG_ERR_NONFINITE;
+    if (!sig_real_isfinite(x)) return SIG_ERR_NONFINITE;
     st = sig_poly_horner_f(g->coef, g->order, u, &gain);
     if (st != SIG_OK) return st;
     *out = x * gain;
@@ -355,10 +349,10 @@ sig_status sig_nonlin_init_f(sig_nonlin_f *m, const sig_real *coef, uint8_t orde
 {
     uint8_t k;
     if (m == NULL || coef == NULL || order > SIG_POLY_MAX_ORDER) return SIG_ERR_ARG;
-    if (!finite_real(center) || !finite_real(inv_scale) || !(inv_scale > SIG_REAL(0.0)))
+    if (!sig_real_isfinite(center) || !sig_real_isfinite(inv_scale) || !(inv_scale > SIG_REAL(0.0)))
         return SIG_ERR_ARG;
     for (k = 0u; k <= order; ++k) {
-        if (!finite_real(coef[k])) return SIG_ERR_NONFINITE;
+        if (!sig_real_isfinite(coef[k])) return SIG_ERR_NONFINITE;
     }
     for (k = 0u; k <= order; ++k) m->coef[k] = coef[k];
     m->order = order;
@@ -372,7 +366,7 @@ sig_status sig_nonlin_apply_f(const sig_nonlin_f *m, sig_real x, sig_real *out)
     sig_status st = SIG_OK, hs;
     sig_real u, p;
     if (m == NULL || out == NULL) return SIG_ERR_ARG;
-    if (!finite_real(x)) return SIG_ERR_NONFINITE;
+    if (!sig_real_isfinite(x)) return SIG_ERR_NONFINITE;
     u = (x - m->center) * m->inv_scale;
     if (u > SIG_REAL(1.0)) {
         u = SIG_REAL(1.0);
@@ -420,7 +414,7 @@ sig_status sig_cross_init_f(sig_cross_f *c, const sig_real *k, uint8_t n)
     uint8_t j;
     if (c == NULL || k == NULL || n < 1u || n > SIG_CROSS_MAX_AXES) return SIG_ERR_ARG;
     for (j = 0u; j < n; ++j) {
-        if (!finite_real(k[j])) return SIG_ERR_NONFINITE;
+        if (!sig_real_isfinite(k[j])) return SIG_ERR_NONFINITE;
     }
     for (j = 0u; j < n; ++j) c->k[j] = k[j];
     c->n = n;
@@ -432,9 +426,9 @@ sig_status sig_cross_apply_f(const sig_cross_f *c, sig_real x, const sig_real *o
     sig_real acc = SIG_REAL(0.0);
     uint8_t j;
     if (c == NULL || others == NULL || out == NULL) return SIG_ERR_ARG;
-    if (!finite_real(x)) return SIG_ERR_NONFINITE;
+    if (!sig_real_isfinite(x)) return SIG_ERR_NONFINITE;
     for (j = 0u; j < c->n; ++j) {
-        if (!finite_real(others[j])) return SIG_ERR_NONFINITE;
+        if (!sig_real_isfinite(others[j])) return SIG_ERR_NONFINITE;
         acc += c->k[j] * others[j];
     }
     *out = x - acc;

@@ -40,21 +40,15 @@ sig_status sig_poly_horner_q15(const int32_t *c, uint8_t order, int16_t u, int32
     return st;
 }
 
-static bool real_is_finite(sig_real x)
-{
-    sig_real d = x - x;          /* 0 for finite x, NaN for inf and NaN */
-    return d == SIG_REAL(0.0);
-}
-
 sig_status sig_poly_horner_f(const sig_real *c, uint8_t order, sig_real u, sig_real *out)
 {
     sig_real acc;
     uint8_t k;
     if (c == NULL || out == NULL || order > SIG_POLY_MAX_ORDER) return SIG_ERR_ARG;
-    if (!real_is_finite(u)) return SIG_ERR_NONFINITE;
+    if (!sig_real_isfinite(u)) return SIG_ERR_NONFINITE;
     acc = c[order];
     for (k = order; k > 0u; k--) acc = c[k - 1u] + acc * u;
-    if (!real_is_finite(acc)) return SIG_ERR_NONFINITE;
+    if (!sig_real_isfinite(acc)) return SIG_ERR_NONFINITE;
     *out = acc;
     return SIG_OK;
 }

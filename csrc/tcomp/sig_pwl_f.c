@@ -2,26 +2,20 @@
  * (see sig_pwl.h). */
 #include "sig_pwl.h"
 
-static bool pwl_finite(sig_real x)
-{
-    /* NaN fails the comparison; inf exceeds the largest finite value. */
-    return x == x && x - x == SIG_REAL(0.0);
-}
-
 sig_status sig_pwl_init_f(sig_pwl_f *p, const sig_real *table, uint8_t n_knots,
                           sig_real t_lo, sig_real t_hi, sig_real inv_step)
 {
     uint8_t k;
     sig_real end_pos;
     if (p == NULL || table == NULL) return SIG_ERR_ARG;
-    if (n_knots < SIG_PWL_MIN_KNOTS || !pwl_finite(t_lo) || !pwl_finite(t_hi)
-        || !pwl_finite(inv_step) || !(t_hi > t_lo) || !(inv_step > SIG_REAL(0.0)))
+    if (n_knots < SIG_PWL_MIN_KNOTS || !sig_real_isfinite(t_lo) || !sig_real_isfinite(t_hi)
+        || !sig_real_isfinite(inv_step) || !(t_hi > t_lo) || !(inv_step > SIG_REAL(0.0)))
         return SIG_ERR_ARG;
     end_pos = (t_hi - t_lo) * inv_step;
-    if (!pwl_finite(end_pos) || end_pos < (sig_real)(n_knots - 2u)
+    if (!sig_real_isfinite(end_pos) || end_pos < (sig_real)(n_knots - 2u)
         || end_pos > (sig_real)(n_knots - 1u) * SIG_REAL(1.0001)) return SIG_ERR_ARG;
     for (k = 0u; k < n_knots; ++k) {
-        if (!pwl_finite(table[k])) return SIG_ERR_NONFINITE;
+        if (!sig_real_isfinite(table[k])) return SIG_ERR_NONFINITE;
     }
     p->table = table;
     p->t_lo = t_lo;

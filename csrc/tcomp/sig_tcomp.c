@@ -196,12 +196,6 @@ sig_status sig_tcomp_apply_q(const sig_tcomp_q *m, int16_t t, const int16_t *in,
     return st;
 }
 
-static bool finite_real(sig_real x)
-{
-    sig_real d = x - x;          /* 0 for finite x, NaN for inf and NaN */
-    return d == SIG_REAL(0.0);
-}
-
 sig_status sig_tcomp_init_f(sig_tcomp_f *m, uint8_t n_axes, uint8_t order, const sig_real *coef,
                             sig_real t_lo, sig_real t_hi, sig_real center, sig_real inv_scale)
 {
@@ -210,13 +204,13 @@ sig_status sig_tcomp_init_f(sig_tcomp_f *m, uint8_t n_axes, uint8_t order, const
     if (m == NULL || coef == NULL) return SIG_ERR_ARG;
     if (n_axes < 1u || n_axes > SIG_TCOMP_MAX_AXES) return SIG_ERR_ARG;
     if (order < SIG_TCOMP_MIN_ORDER || order > SIG_TCOMP_MAX_ORDER) return SIG_ERR_ARG;
-    if (!finite_real(t_lo) || !finite_real(t_hi) || !finite_real(center) || !finite_real(inv_scale))
+    if (!sig_real_isfinite(t_lo) || !sig_real_isfinite(t_hi) || !sig_real_isfinite(center) || !sig_real_isfinite(inv_scale))
         return SIG_ERR_NONFINITE;
     if (!(t_lo < t_hi) || center < t_lo || center > t_hi || !(inv_scale > SIG_REAL(0.0)))
         return SIG_ERR_ARG;
     n = (uint8_t)(n_axes * (uint8_t)(order + 1u));
     for (k = 0; k < n; k++)
-        if (!finite_real(coef[k])) return SIG_ERR_NONFINITE;
+        if (!sig_real_isfinite(coef[k])) return SIG_ERR_NONFINITE;
     for (a = 0; a < SIG_TCOMP_MAX_AXES; a++) {
         dst = m->coef[a];
         for (k = 0; k <= SIG_TCOMP_MAX_ORDER; k++) dst[k] = SIG_REAL(0.0);
@@ -240,7 +234,7 @@ sig_status sig_tcomp_apply_f(const sig_tcomp_f *m, sig_real t, const sig_real *i
     if (m == NULL || in == NULL || out == NULL) return SIG_ERR_ARG;
     if (!(t < m->t_lo) && !(t >= m->t_lo)) return SIG_ERR_NONFINITE;   /* NaN; +-inf clamps */
     for (a = 0; a < m->n_axes; a++)
-        if (!finite_real(in[a])) return SIG_ERR_NONFINITE;
+        if (!sig_real_isfinite(in[a])) return SIG_ERR_NONFINITE;
     if (t < m->t_lo) { t = m->t_lo; st = SIG_WARN_CLAMPED; }
     else if (t > m->t_hi) { t = m->t_hi; st = SIG_WARN_CLAMPED; }
     u = (t - m->center) * m->inv_scale;

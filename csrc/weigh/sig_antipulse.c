@@ -37,11 +37,6 @@ static int32_t div_round_small(int32_t s, uint8_t d)
 }
 
 
-static bool is_finite(sig_real x)
-{
-    return x - x == SIG_REAL(0.0);
-}
-
 sig_status sig_antipulse_init_f(sig_antipulse_f *s, uint8_t n)
 {
     if (!s || n < 3u || n > SIG_ANTIPULSE_MAX) return SIG_ERR_ARG;
@@ -107,7 +102,7 @@ sig_status sig_antipulse_step_f(sig_antipulse_f *s, sig_real x, sig_real *out)
     sig_real old, t;
     uint8_t head;
     if (!s || !out) return SIG_ERR_ARG;
-    if (!is_finite(x)) return SIG_ERR_NONFINITE;
+    if (!sig_real_isfinite(x)) return SIG_ERR_NONFINITE;
     head = s->head;
     if (s->count == s->n) {
         /* the steady state: a full window, one sample in, one out */
@@ -123,9 +118,9 @@ sig_status sig_antipulse_step_f(sig_antipulse_f *s, sig_real x, sig_real *out)
             s->mn = x < s->mn ? x : s->mn;
         }
         s->sum = (s->sum - old) + x;
-        if (head == 0u || !is_finite(s->sum)) resum_f(s);
+        if (head == 0u || !sig_real_isfinite(s->sum)) resum_f(s);
         t = s->sum - s->mx - s->mn;
-        *out = is_finite(t) ? t * s->inv : safe_mean_f(s);
+        *out = sig_real_isfinite(t) ? t * s->inv : safe_mean_f(s);
         return SIG_OK;
     }
     /* filling */
@@ -141,15 +136,15 @@ sig_status sig_antipulse_step_f(sig_antipulse_f *s, sig_real x, sig_real *out)
         if (x < s->mn) s->mn = x;
     }
     s->sum = s->sum + x;
-    if (head == 0u || !is_finite(s->sum)) resum_f(s);
+    if (head == 0u || !sig_real_isfinite(s->sum)) resum_f(s);
     if (s->count == 1u) {
         *out = x;
     } else if (s->count == 2u) {
         t = s->sum * SIG_REAL(0.5);
-        *out = is_finite(t) ? t : safe_mean_f(s);
+        *out = sig_real_isfinite(t) ? t : safe_mean_f(s);
     } else {
         t = s->sum - s->mx - s->mn;
-        if (!is_finite(t)) *out = safe_mean_f(s);
+        if (!sig_real_isfinite(t)) *out = safe_mean_f(s);
         else if (s->count == s->n) *out = t * s->inv;
         else *out = t / (sig_real)(s->count - 2u);
     }

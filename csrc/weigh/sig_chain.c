@@ -2,14 +2,9 @@
 #include "sig_chain.h"
 #include "sig_chain_stages.h"
 
-static bool is_finite(sig_real x)
-{
-    return x - x == SIG_REAL(0.0);
-}
-
 static bool nonneg_finite(sig_real x)
 {
-    return is_finite(x) && x >= SIG_REAL(0.0);
+    return sig_real_isfinite(x) && x >= SIG_REAL(0.0);
 }
 
 sig_status sig_chain_params_paper_f(sig_chain_params_f *p)
@@ -35,10 +30,10 @@ sig_status sig_chain_params_paper_f(sig_chain_params_f *p)
 
 static bool params_ok_f(const sig_chain_params_f *p)
 {
-    return is_finite(p->a0) && p->a0 > SIG_REAL(0.0)
+    return sig_real_isfinite(p->a0) && p->a0 > SIG_REAL(0.0)
         && p->window >= 3u && p->window <= SIG_ANTIPULSE_MAX
-        && nonneg_finite(p->q) && is_finite(p->r) && p->r > SIG_REAL(0.0)
-        && nonneg_finite(p->p0) && is_finite(p->x0)
+        && nonneg_finite(p->q) && sig_real_isfinite(p->r) && p->r > SIG_REAL(0.0)
+        && nonneg_finite(p->p0) && sig_real_isfinite(p->x0)
         && nonneg_finite(p->stable_step) && p->stable_count >= 1u
         && nonneg_finite(p->motion_band) && p->motion_count >= 1u
         && nonneg_finite(p->zero_band) && nonneg_finite(p->zero_rate);
@@ -187,7 +182,7 @@ sig_status sig_chain_tare_f(sig_chain_f *c)
 
 sig_status sig_chain_set_offset_f(sig_chain_f *c, sig_real offset)
 {
-    if (!c || !is_finite(offset)) return SIG_ERR_ARG;
+    if (!c || !sig_real_isfinite(offset)) return SIG_ERR_ARG;
     c->offset = offset;
     c->tare_pending = false;
     return SIG_OK;

@@ -2,11 +2,6 @@
 #include "sig_chain_batch.h"
 #include "sig_chain_stages.h"
 
-static bool is_finite(sig_real x)
-{
-    return x - x == SIG_REAL(0.0);
-}
-
 /* Largest |sample| the batch fast path takes: a sum of SIG_ANTIPULSE_MAX + 2
  * such values cannot overflow, so the window sum and trimmed mean need no
  * finiteness checks (DBL_MAX ~ 1.8e308, FLT_MAX ~ 3.4e38). */
@@ -86,7 +81,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
             y = xi;
             lrun = 0u;
             lside = 0;
-        } else if (fast && !is_finite(xi)) {
+        } else if (fast && !sig_real_isfinite(xi)) {
             y = dc;
         } else {
             side = d > SIG_REAL(0.0) ? (int8_t)1 : (int8_t)-1;
@@ -153,13 +148,13 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         if (!conv) {
             pm = kp + kq;
             den = pm + kr;
-            kk = is_finite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + kr / pm);
+            kk = sig_real_isfinite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + kr / pm);
             pn = kr * kk;
             conv = pn == kp;
             kp = pn;
         }
         e = m - kx;
-        if (is_finite(e)) kx = kx + kk * e;
+        if (sig_real_isfinite(e)) kx = kx + kk * e;
         else kx = (SIG_REAL(1.0) - kk) * kx + kk * m;
         xk = kx;
         /* stability, tare and zero tracking */

@@ -29,15 +29,10 @@ static int32_t mul_q30_gain(int32_t a, uint32_t k)
 }
 
 
-static bool is_finite(sig_real x)
-{
-    return x - x == SIG_REAL(0.0);
-}
-
 sig_status sig_kalman1_init_f(sig_kalman1_f *s, sig_real q, sig_real r, sig_real p0,
                               sig_real x0, bool seed_first)
 {
-    if (!s || !is_finite(q) || !is_finite(r) || !is_finite(p0) || !is_finite(x0)) return SIG_ERR_ARG;
+    if (!s || !sig_real_isfinite(q) || !sig_real_isfinite(r) || !sig_real_isfinite(p0) || !sig_real_isfinite(x0)) return SIG_ERR_ARG;
     if (q < SIG_REAL(0.0) || !(r > SIG_REAL(0.0)) || p0 < SIG_REAL(0.0)) return SIG_ERR_ARG;
     s->q = q;
     s->r = r;
@@ -71,7 +66,7 @@ sig_status sig_kalman1_step_f(sig_kalman1_f *s, sig_real z, sig_real *out)
 {
     sig_real pm, den, pn;
     if (!s || !out) return SIG_ERR_ARG;
-    if (!is_finite(z)) return SIG_ERR_NONFINITE;
+    if (!sig_real_isfinite(z)) return SIG_ERR_NONFINITE;
     if (!s->seeded) {
         s->seeded = true;
         if (s->seed_first) s->x = z;
@@ -79,13 +74,13 @@ sig_status sig_kalman1_step_f(sig_kalman1_f *s, sig_real z, sig_real *out)
     if (!s->converged) {
         pm = s->p + s->q;
         den = pm + s->r;
-        s->k = is_finite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + s->r / pm);
+        s->k = sig_real_isfinite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + s->r / pm);
         pn = s->r * s->k;
         s->converged = pn == s->p;
         s->p = pn;
     }
     s->innov = z - s->x;
-    if (is_finite(s->innov)) s->x = s->x + s->k * s->innov;
+    if (sig_real_isfinite(s->innov)) s->x = s->x + s->k * s->innov;
     else s->x = (SIG_REAL(1.0) - s->k) * s->x + s->k * z;
     *out = s->x;
     return SIG_OK;

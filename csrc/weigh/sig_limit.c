@@ -2,14 +2,9 @@
 #include "sig_limit.h"
 
 /* NaN and +-inf are the values for which x - x is not 0 (no libm needed). */
-static bool is_finite(sig_real x)
-{
-    return x - x == SIG_REAL(0.0);
-}
-
 sig_status sig_limit_init_f(sig_limit_f *s, sig_real a0, uint8_t lockout_n)
 {
-    if (!s || !is_finite(a0) || !(a0 > SIG_REAL(0.0))) return SIG_ERR_ARG;
+    if (!s || !sig_real_isfinite(a0) || !(a0 > SIG_REAL(0.0))) return SIG_ERR_ARG;
     s->a0 = a0;
     s->lockout_n = lockout_n;
     return sig_limit_reset_f(s);
@@ -27,7 +22,7 @@ sig_status sig_limit_reset_f(sig_limit_f *s)
 
 sig_status sig_limit_set_ref_f(sig_limit_f *s, sig_real dc)
 {
-    if (!s || !is_finite(dc)) return SIG_ERR_ARG;
+    if (!s || !sig_real_isfinite(dc)) return SIG_ERR_ARG;
     s->dc = dc;
     s->seeded = true;
     return SIG_OK;
@@ -38,7 +33,7 @@ sig_status sig_limit_step_f(sig_limit_f *s, sig_real x, sig_real *out)
     sig_real d;
     int8_t side;
     if (!s || !out) return SIG_ERR_ARG;
-    if (!is_finite(x)) {
+    if (!sig_real_isfinite(x)) {
         if (!s->seeded) return SIG_ERR_NONFINITE;
         *out = s->dc;                 /* an impulse; not counted for the lock-out */
         return SIG_WARN_REJECTED;

@@ -69,16 +69,10 @@ sig_status sig_scale_apply_q16(const sig_scale_q16 *s, int32_t counts, int32_t *
     return saturated ? SIG_WARN_SATURATED : SIG_OK;
 }
 
-static bool finite_real(sig_real x)
-{
-    /* NaN fails x == x; +-inf is the only value for which x - x is not 0 */
-    return x == x && (x - x) == SIG_REAL(0.0);
-}
-
 sig_status sig_scale_init_f(sig_scale_f *s, sig_real offset, sig_real gain)
 {
     if (s == NULL) return SIG_ERR_ARG;
-    if (!finite_real(offset) || !finite_real(gain)) return SIG_ERR_NONFINITE;
+    if (!sig_real_isfinite(offset) || !sig_real_isfinite(gain)) return SIG_ERR_NONFINITE;
     if (gain == SIG_REAL(0.0)) return SIG_ERR_ARG;
     s->offset = offset;
     s->gain = gain;
@@ -88,7 +82,7 @@ sig_status sig_scale_init_f(sig_scale_f *s, sig_real offset, sig_real gain)
 sig_status sig_scale_apply_f(const sig_scale_f *s, sig_real counts, sig_real *mass)
 {
     if (s == NULL || mass == NULL) return SIG_ERR_ARG;
-    if (!finite_real(counts)) return SIG_ERR_NONFINITE;
+    if (!sig_real_isfinite(counts)) return SIG_ERR_NONFINITE;
     *mass = (counts - s->offset) * s->gain;
     return SIG_OK;
 }

@@ -1,14 +1,9 @@
 /* sig_stable.c - stability detector; see sig_stable.h. */
 #include "sig_stable.h"
 
-static bool is_finite(sig_real x)
-{
-    return x - x == SIG_REAL(0.0);
-}
-
 sig_status sig_stable_init_f(sig_stable_f *s, sig_real step, uint8_t count)
 {
-    if (!s || !is_finite(step) || step < SIG_REAL(0.0) || count == 0u) return SIG_ERR_ARG;
+    if (!s || !sig_real_isfinite(step) || step < SIG_REAL(0.0) || count == 0u) return SIG_ERR_ARG;
     s->step = step;
     s->count = count;
     return sig_stable_reset_f(s);
@@ -27,7 +22,7 @@ sig_status sig_stable_step_f(sig_stable_f *s, sig_real x, bool *stable)
 {
     sig_real d;
     if (!s || !stable) return SIG_ERR_ARG;
-    if (!is_finite(x)) return SIG_ERR_NONFINITE;
+    if (!sig_real_isfinite(x)) return SIG_ERR_NONFINITE;
     d = x - s->prev;
     if (s->has_prev && d <= s->step && -d <= s->step) {
         if (s->run < 255u) s->run++;

@@ -884,3 +884,39 @@ def csrc_sources(*modules: str) -> list[Path]:
             name = Path(inc).name
             todo += [x for x in (headers.get(name), by_stem.get(Path(name).stem)) if x is not None]
     return sorted(out)
+
+
+def run_until(img: Image, stop: str, reads) -> dict:
+    """Run `img` from reset until the function `stop` is entered (a firmware's
+    own "results ready" hook, not a bench marker) and read back {symbol:
+    nbytes} as little-endian raw bytes.  McuError if `stop` is never reached."""
+    reads = dict(reads)
+    s = img.symbols
+    if img.target == "msp430":
+        out = _mspdebug(img, [f"setbreak {s[stop]:#x}", "run", "regs"] +
+                        [f"md {s[name]:#x} {n}" for name, n in reads.items()])
+        pc = re.findall(r"\(\s*PC: ([0-9a-f]{5})\)", out)
+        if not pc or int(pc[-1], 16) != s[stop]:
+            raise McuError(f"mspdebug never reached {stop}:\n" + out[-2000:])
+        return {name: _msp430_md(out, s[name], n) for name, n in reads.items()}
+    script = [f"break {s['_' + stop][1]:#x}", "run", "state"]
+    for name, n in reads.items():
+        space, addr = s["_" + name]
+        script.append(f"dump /h {space} {addr:#x} {addr + n - 1:#x}")
+    out = _s51(img, script)
+    if not re.search(r"Stop at 0x0*%x" % s["_" + stop][1], out, re.I) or "Stack overflow" in out:
+        raise McuError(f"s51 never reached {stop} or overflowed the stack:\n" + out[-2000:])
+    return {name: _hexdump(out, s["_" + name][1], n, _S51_DUMP) for name, n in reads.items()}
+
+
+def image_from_file(path, hwmult=False) -> Image:
+    """An Image for a program built elsewhere (a firmware's own Makefile):
+    .elf -> MSP430 (hwmult: its multiplier helpers need the simulated
+    multiplier), .ihx -> 8051 (its .map beside it)."""
+    path = Path(path)
+    img = Image("msp430" if path.suffix == ".elf" else "mcs51", path, hwmult)
+    if img.target == "msp430":
+        _msp430_symbols(img)
+    else:
+        _mcs51_symbols(img)
+    return img

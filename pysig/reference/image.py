@@ -5,7 +5,7 @@ Layout (little-endian; see sig_image.h):
     magic b"psig" | version u8 (1) | flags u8 (0) | total_len u16 | sequence u32
     sections: type u16 (!= 0) | length u16 | payload, tiling [12, total_len-2)
     CRC-16/CCITT-FALSE of bytes [0, total_len-2), u16
-Status codes are those of sig_types.h."""
+Status codes are those of sig_status.h."""
 import struct
 
 MAGIC = b"psig"

@@ -7,6 +7,7 @@ from libc.stdint cimport int16_t, int32_t, uint8_t, uint16_t, uint32_t
 from libc.math cimport NAN
 
 from ..errors import ModelFileError, RangeError, NonFiniteError
+from ..status import Status, describe
 
 cnp.import_array()
 
@@ -79,7 +80,7 @@ def eval_f(table, double t_lo, double t_hi, double inv_step, t):
     if tab.shape[0] == 0 or tab.shape[0] > 255:
         raise RangeError(f"pwl: {tab.shape[0]} knots, the C table takes 2..255")
     st = sig_pwl_init_f(&p, &tab[0], <uint8_t>tab.shape[0], t_lo, t_hi, inv_step)
-    if st == -2:
+    if st == Status.ERR_NONFINITE:
         raise NonFiniteError("pwl: non-finite table entry")
     if st != 0:
         raise RangeError(f"pwl: sig_pwl_init_f rejected n_knots={tab.shape[0]}, t_lo={t_lo}, "
@@ -103,9 +104,8 @@ def load_image(data, where="image"):
     cdef uint8_t n_axes = 0
     st = sig_pwl_load_image(tabs, 3, &n_axes, storage, 3 * 255, &b[0], len(raw))
     if st != 0:
-        text = {-3: "bad format (magic, version, length, sections or table payload)",
-                -4: "CRC mismatch", -5: "no piecewise-linear table section",
-                -1: "more axes or entries than the loader has room for"}.get(st, f"status {st}")
+        text = ("more axes or entries than the loader has room for" if st == Status.ERR_ARG
+                else describe(st, "piecewise-linear table"))
         raise ModelFileError(f"{where}: the C loader rejected the image: {text}")
     out = []
     for a in range(n_axes):

@@ -7,6 +7,7 @@ cimport numpy as cnp
 from libc.stdint cimport int16_t, int32_t, uint8_t, uint16_t, uint32_t
 
 from ..errors import ModelFileError, NonFiniteError, RangeError
+from ..status import Status, describe
 
 cnp.import_array()
 
@@ -162,8 +163,7 @@ cdef class TcompQ:
         cdef const uint8_t[::1] b = bytes(data) + b"\0"
         st = sig_tcomp_load_image(&self.m, &b[0], len(data))
         if st != 0:
-            text = {-3: "bad format (magic, version, length, sections or offset payload)",
-                    -4: "CRC mismatch", -5: "no offset-polynomial section"}.get(st, f"status {st}")
+            text = describe(st, "offset-polynomial")
             raise ModelFileError(f"{where}: the C loader rejected the image: {text}")
         return self
 
@@ -245,7 +245,7 @@ cdef class TcompF:
             raise RangeError(f"TcompF: {n_axes} axes of order {order} (need 1..3 axes, order 1..8)")
         cdef cnp.ndarray[cnp.float64_t, ndim=1] c = np.array([float(v) for r in rows for v in r])
         st = sig_tcomp_init_f(&self.m, <uint8_t>n_axes, <uint8_t>order, &c[0], t_lo, t_hi, center, inv_scale)
-        if st == -2:
+        if st == Status.ERR_NONFINITE:
             raise NonFiniteError("TcompF: non-finite parameter or coefficient")
         if st != 0:
             raise RangeError(f"TcompF: sig_tcomp_init_f rejected the parameters (status {st})")

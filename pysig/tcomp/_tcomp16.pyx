@@ -9,6 +9,7 @@ from libc.stdint cimport int16_t, int32_t, uint8_t, uint16_t, uint32_t
 
 from ._tcomp import _int16, _int16_readings    # the same int16 checks as the int32 form
 from ..errors import ModelFileError, RangeError
+from ..status import describe
 
 cnp.import_array()
 
@@ -85,8 +86,7 @@ cdef class Tcomp16Q:
         cdef const uint8_t[::1] b = data + b"\0"       # never a zero-length view
         st = sig_tcomp16_load_image(&self.m, &b[0], len(data))
         if st != 0:
-            text = {-3: "bad format (magic, version, length, sections or compact payload)",
-                    -4: "CRC mismatch", -5: "no compact-polynomial section"}.get(st, f"status {st}")
+            text = describe(st, "compact-polynomial")
             raise ModelFileError(f"{where}: the C loader rejected the image: {text}")
         return self
 

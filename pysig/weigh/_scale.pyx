@@ -6,6 +6,7 @@ cimport numpy as cnp
 from libc.stdint cimport int16_t, int32_t, uint8_t
 
 from ..errors import NonFiniteError, RangeError
+from ..status import Status
 
 cnp.import_array()
 
@@ -67,7 +68,7 @@ cdef class ScaleF:
 
     def __init__(self, double offset, double gain):
         cdef sig_status st = sig_scale_init_f(&self.s, offset, gain)
-        if st == -2:
+        if st == Status.ERR_NONFINITE:
             raise NonFiniteError(f"ScaleF: offset {offset!r} and gain {gain!r} must be finite")
         if st != 0:
             raise RangeError(f"ScaleF: gain must be non-zero, got {gain!r}")

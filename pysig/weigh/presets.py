@@ -12,16 +12,17 @@ import math
 import numpy as np
 
 from ..errors import RangeError
+from ..status import Status, Warn
 
-# ---- status codes (csrc/sig_types.h, sig_limit.h, sig_chain.h) -------------
-OK = 0
-WARN_CLAMPED = 1
-WARN_REJECTED = 4
-LIMIT_RESEEDED = 16
-CHAIN_MOTION = 32
-CHAIN_TARED = 64
-CHAIN_NOISE_FLOOR = 128          # measured noise at its floor (stuck sensor, below a quarter code)
-ERR_NONFINITE = -2
+# ---- status codes (csrc/include/sig_status.h through pysig.status) ---------
+OK = int(Status.OK)
+WARN_CLAMPED = int(Warn.WARN_CLAMPED)
+WARN_REJECTED = int(Warn.WARN_REJECTED)
+LIMIT_RESEEDED = int(Warn.LIMIT_RESEEDED)
+CHAIN_MOTION = int(Warn.CHAIN_MOTION)
+CHAIN_TARED = int(Warn.CHAIN_TARED)
+CHAIN_NOISE_FLOOR = int(Warn.CHAIN_NOISE_FLOOR)
+ERR_NONFINITE = int(Status.ERR_NONFINITE)
 
 INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
 CODE_MAX = (1 << 24) - 1          # fixed-form input range, sig_antipulse.h

@@ -17,5 +17,12 @@ volatile uint8_t bench_mark;
 NOINLINE void bench_start(void) { bench_mark = 1; }
 NOINLINE void bench_stop(void) { bench_mark = 2; }
 NOINLINE void bench_done(void) { bench_mark = 3; }
+/* Per-axis and empty-loop markers (the Pareto harnesses: axis 0 runs from
+ * bench_start, axis 1 from bench_axis1, axis 2 from bench_axis2 to
+ * bench_stop; the loop's own overhead between bench_null_start/_stop). */
+NOINLINE void bench_axis1(void) { bench_mark = 4; }
+NOINLINE void bench_axis2(void) { bench_mark = 5; }
+NOINLINE void bench_null_start(void) { bench_mark = 6; }
+NOINLINE void bench_null_stop(void) { bench_mark = 7; }
 
 #endif

@@ -2,6 +2,7 @@
  * the simulator script reads back.  Inputs live in RAM (.data) so nothing
  * can be constant-folded. */
 #include <stdint.h>
+#include "../harness/bench_marks.h"   /* NOINLINE and the marker functions */
 #include "bench_funcs.h"
 
 int32_t coef_q16[3] = { INT32_C(210371), INT32_C(-29930), INT32_C(806) };  /* 3.21, -0.4567, 0.0123 */
@@ -17,17 +18,6 @@ float z_f = 101.5f;
 
 int32_t res_poly_q16, res_kf_q16, res_poly_n32, res_kf_n32;
 float res_poly_f, res_kf_f;
-
-#if defined(__clang__) || defined(__GNUC__)
-#define NOINLINE __attribute__((noinline))
-#else
-#define NOINLINE            /* sdcc never inlines a function without 'inline' */
-#endif
-
-/* The 8051 run stops at this symbol: the program has finished.  It needs a
- * side effect: clang deletes calls to empty functions, noinline or not. */
-volatile uint8_t bench_mark;
-NOINLINE void bench_done(void) { bench_mark = 3; }
 
 int main(void)
 {

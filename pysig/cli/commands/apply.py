@@ -17,6 +17,7 @@ from ...tcomp import tmodel
 from ...tcomp.tempcode import CELSIUS, TempCode
 from ...errors import InputFileError
 from ...io import read_csv, write_csv
+from ...status import Status, Warn
 
 
 def register(sub):

@@ -31,6 +31,7 @@ from ...errors import InputFileError, NonFiniteError, SaturationError
 from ...weigh.presets import CODE_MAX
 from ...io import from_numpy, numeric_column, read_header, read_table, row_label
 from ...io_stream import iter_batches, progress, table_sink
+from ...status import Warn
 
 
 
@@ -137,7 +138,7 @@ def run(args):
             make = pa.Table.from_arrays if isinstance(batch, pa.Table) else pa.RecordBatch.from_arrays
             sink.write(make(list(cols.values()), names=list(cols)))
             rows += x.size
-            rejected += int(np.count_nonzero(status & 4))
+            rejected += int(np.count_nonzero(status & Warn.WARN_REJECTED))
             stable_rows += int(np.count_nonzero(stable))
             advance(x.size)
     print(f"wrote {args.output}: {rows} rows, preset {args.preset}"

@@ -1,0 +1,132 @@
+"""The example firmware of examples/firmware/ (MSP430F5510 with clang, 8051
+with sdcc) builds warning-free, both through pysig.mcu.runner and through
+its own Makefile (the recipe a user copies), runs in the simulators
+(mspdebug sim, s51), and leaves in its globals exactly what pysig computes
+on the host from the same calibration: the slot the A/B loader picks (the
+newer one; the older one when the newer was cut off half-written), the
+compensated readings and their status (one beyond the calibrated range:
+clamped and flagged), and the weighing chain's fixed-point outputs, stable
+flags and statuses on raw HX711 codes with a read glitch and a step."""
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import ROOT, require_shared_data, require_tool
+
+from pysig.mcu import runner
+from pysig.status import Status, Warn
+from pysig.tcomp._tcomp import image_select_slot
+from pysig.tcomp._tcomp16 import Tcomp16Q
+from pysig.weigh.chain import Chain
+
+FIRMWARE = ROOT / "examples" / "firmware"
+COMMON = FIRMWARE / "common"
+TARGETS = {"msp430": FIRMWARE / "msp430f5510", "mcs51": FIRMWARE / "mcs51"}
+MCS51_FLAGS = ["--stack-auto"]          # as the Makefile: the chain's call depth needs it
+
+
+def tools(target):
+    if target == "msp430":
+        require_tool("clang-14", "clang")
+        require_tool("ld.lld-14", "ld.lld")
+        require_tool("mspdebug")
+    else:
+        require_tool("sdcc")
+        require_tool("s51")
+
+
+MPU6000 = "mpu6000_gyro_offset_vs_temp/mpu6000_sn102_gyro_offset.csv"
+
+
+@pytest.fixture(scope="module", params=["newest", "torn-b", "mpu6000"])
+def calibration(request, tmp_path_factory):
+    """calibration.h and its JSON twin from make_calibration.py: the
+    simulated chamber with slot B newest and whole, or slot B cut off
+    half-written; and the real MPU-6000 gyro offsets (3 axes, 6.7..41 °C)."""
+    out = tmp_path_factory.mktemp(f"cal-{request.param}")
+    cmd = [sys.executable, str(FIRMWARE / "make_calibration.py"), "-o", str(out / "calibration.h"),
+           "--json", str(out / "calibration.json")]
+    if request.param == "torn-b":
+        cmd.append("--torn-b")
+    if request.param == "mpu6000":
+        cmd += ["--input", str(require_shared_data(MPU6000)), "--columns", "gyro_x,gyro_y,gyro_z"]
+    res = subprocess.run(cmd, capture_output=True, text=True)
+    assert res.returncode == 0, res.stderr
+    return out, json.loads((out / "calibration.json").read_text()), request.param
+
+
+def host(cal):
+    """What the firmware must compute, through pysig (the C core via Cython)."""
+    slots = [bytes.fromhex(cal["slot_a"]), bytes.fromhex(cal["slot_b"])]
+    st, which = image_select_slot(*slots)
+    assert st == Status.OK
+    comp, comp_st = Tcomp16Q.from_image(slots[which]).apply(cal["temp_centi"], cal["readings"])
+    chain = Chain("recommended", fixed=True, units_per_kg=cal["units_per_kg"])
+    y, stable, chain_st = chain.process(np.array(cal["samples"], dtype=float), flags=True)
+    q7 = np.round(y * 128).astype(np.int64)
+    assert np.array_equal(q7 / 128, y)                  # the fixed chain's output is exact Q24.7
+    return {"slot": which, "start": Status.OK, "comp": comp.astype(int).tolist(),
+            "comp_status": comp_st.astype(int).tolist(), "q7": q7.tolist(),
+            "stable": stable.astype(int).tolist(), "chain_status": chain_st.astype(int).tolist()}
+
+
+def reads(cal):
+    n, m, axes = len(cal["readings"]), len(cal["samples"]), len(cal["axes"])
+    return {"node_slot": 1, "node_start_status": 2, "node_comp_out": 2 * axes * n, "node_comp_status": 2 * n,
+            "node_weight_q7": 4 * m, "node_stable": m, "node_weight_status": 2 * m}
+
+
+def decode(raw, cal):
+    def ints(name, fmt):
+        return np.frombuffer(raw[name], dtype=fmt).astype(int).tolist()
+    n = len(cal["readings"])
+    return {"slot": raw["node_slot"][0], "start": ints("node_start_status", "<i2")[0],
+            "comp": np.array(ints("node_comp_out", "<i2")).reshape(n, len(cal["axes"])).tolist(),
+            "comp_status": ints("node_comp_status", "<i2"), "q7": ints("node_weight_q7", "<i4"),
+            "stable": ints("node_stable", "u1"), "chain_status": ints("node_weight_status", "<i2")}
+
+
+def check(got, want, variant):
+    assert got == want
+    assert got["slot"] == (0 if variant == "torn-b" else 1)     # newest valid slot; A after a torn write
+    assert got["comp_status"][-1] & Warn.WARN_CLAMPED               # the out-of-range reading
+    assert any(s & Warn.WARN_REJECTED for s in got["chain_status"])  # the HX711 read glitch
+    assert any(got["stable"])
+
+
+def build_with_runner(target, gen):
+    sources = [COMMON / "node.c"] + runner.csrc_sources("sig_chain", "sig_tcomp16", "sig_image")
+    main = TARGETS[target] / "main.c"
+    if target == "msp430":
+        return runner.build_msp430(sources, main, hwmult=True, include_dirs=[gen, COMMON])
+    return runner.build_mcs51(sources, main, include_dirs=[gen, COMMON], extra_flags=MCS51_FLAGS)
+
+
+@pytest.mark.parametrize("target", sorted(TARGETS))
+def test_runner_build_runs_in_simulator_and_equals_host(target, calibration):
+    tools(target)
+    gen, cal, variant = calibration
+    img = build_with_runner(target, gen)
+    raw = runner.run_until(img, "results_ready", reads(cal))
+    check(decode(raw, cal), host(cal), variant)
+
+
+@pytest.mark.parametrize("target", sorted(TARGETS))
+def test_makefile_recipe_builds_and_runs(target, calibration, tmp_path):
+    tools(target)
+    make = require_tool("make")
+    gen, cal, variant = calibration
+    build = tmp_path / "build"
+    args = [make, "-C", str(TARGETS[target]), f"CAL_DIR={gen}", f"BUILD={build}"]
+    if target == "msp430":
+        args.append("MPY_BASE=0x0130")              # mspdebug simulates the multiplier there
+    res = subprocess.run(args, capture_output=True, text=True, timeout=900)
+    assert res.returncode == 0, res.stdout + res.stderr
+    assert "warning" not in (res.stdout + res.stderr).lower(), res.stdout + res.stderr
+    image = build / ("firmware.elf" if target == "msp430" else "firmware.ihx")
+    img = runner.image_from_file(image, hwmult=target == "msp430")
+    raw = runner.run_until(img, "results_ready", reads(cal))
+    check(decode(raw, cal), host(cal), variant)
