@@ -1,26 +1,17 @@
-"""bench/weighing_accuracy.py reproduces the paper's direction and factors on
-the simulator, and the motion-aware mode settles fast without losing
-accuracy (issue 4).  Margins, not exact numbers; 20 seeds as the bench."""
-import importlib.util
+"""The weighing-accuracy experiment (pysig.sim.weighing_accuracy, printed by
+bench/weighing_accuracy.py) reproduces the weighing paper's direction and
+factors on the simulator, and the motion-aware mode settles fast without
+losing accuracy.  Margins, not exact numbers; 20 seeds as the bench."""
 import json
-from pathlib import Path
 
 import pytest
 
-BENCH = Path(__file__).resolve().parent.parent / "bench" / "weighing_accuracy.py"
+from pysig.sim import weighing_accuracy
 
 
 @pytest.fixture(scope="module")
-def bench():
-    spec = importlib.util.spec_from_file_location("weighing_accuracy", BENCH)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-@pytest.fixture(scope="module")
-def figures(bench):
-    return bench.run(20)
+def figures():
+    return weighing_accuracy.run(20)
 
 
 def test_calibration_recovers_the_cell(figures):
