@@ -7,7 +7,7 @@ Table 1 (the paper's Table 2): temperature compensation of 3 axes
 compact fixed form (sig_tcomp16_apply_q): "fixed16" as portable C (clang
 calls the multiply helper per product) and "fixed16_inline" with the
 csrc/sig_port.h hooks mapped onto the multiplier's MAC/MACS by
-bench/mcu/msp430/sig_port_msp430.h (plain C volatile accesses), on the
+csrc/port/msp430/sig_port_msp430.h (plain C volatile accesses), on the
 MSP430F5510 at 8 MHz: .text bytes of the compensation code, RAM (model +
 stack high-water), cycles per call, time, energy per call at 1.56 mA and VDD.
 Table 2: one weighing-chain step (sig_chain_step_q / _f) on the MSP430 and
@@ -155,7 +155,7 @@ def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False) -> d
     readings as tcomp_row, the same polynomial quantised by
     pysig.tcomp.quant.quantize_compact (bench/mcu/tcomp16_vectors.py), checked
     against the host C before the row is returned.  inline: the same C with
-    the sig_port.h hooks of bench/mcu/msp430/sig_port_msp430.h (multiplier
+    the sig_port.h hooks of csrc/port/msp430/sig_port_msp430.h (multiplier
     MAC/MACS as volatile accesses, hw only)."""
     case = tcomp16_vectors.tcomp16_case(order)
     gen = runner.BUILD_DIR / "gen" / f"tcomp16-o{order}"
@@ -413,7 +413,7 @@ def print_table1(t1, a):
           "multiplicands, 16x16 multiply-accumulates; compact_error_lsb: its measured quantisation "
           "error over every 0.01 degC of the range, on top of the 0.5 LSB output rounding); "
           "fixed16_inline = the same C with the csrc/sig_port.h hooks of "
-          "bench/mcu/msp430/sig_port_msp430.h (MAC/MACS on the multiplier, no helper calls; "
+          "csrc/port/msp430/sig_port_msp430.h (MAC/MACS on the multiplier, no helper calls; "
           "assumes no ISR uses the multiplier)")
     print("ops model per call (fixed | fixed16 | fixed16_inline | float):")
     for order in _orders(a.orders):

@@ -1,7 +1,7 @@
 """Firmware == Python for the compact compensation (csrc/sig_tcomp16.c): the
 very csrc/ code, built for the MSP430F5510 (clang: multiplier helpers on
 mspdebug's simulated 16x16 MPY; the inline build whose csrc/sig_port.h hooks
-are bench/mcu/msp430/sig_port_msp430.h, MAC/MACS on that multiplier; the
+are csrc/port/msp430/sig_port_msp430.h, MAC/MACS on that multiplier; the
 no-multiplier build) and for the 8051 (sdcc --model-large), runs 50
 temperature/reading pairs in the simulators; the
 outputs and statuses read back must equal the host C (Cython) and the Python
