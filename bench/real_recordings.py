@@ -1,4 +1,5 @@
-"""The weighing chain on a real HX711 step recording (issue 9).
+"""The weighing chain on a real HX711 step recording: behaviour on a
+sensor the presets were not tuned on.
 
     python bench/real_recordings.py --json real.json --plot DIR [--csv FILE]
 

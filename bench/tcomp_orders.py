@@ -1,4 +1,4 @@
-"""Per-order table of the temperature compensation (issue 3, the
+"""Per-order table of the temperature compensation (the
 magnetometer paper's Table 3): for polynomial orders 1-6, the error after
 correction on held-out temperatures (leave-one-temperature-out, pysig.tcomp.fit)
 as RMS, max |error| and variance, on

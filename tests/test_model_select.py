@@ -1,4 +1,4 @@
-"""Model selection (issue 10): curve tidying and its errors, blocked
+"""Model selection: curve tidying and its errors, blocked
 cross-validation over temperature, the paper's four-point calibration, and
 the real MPU-6000 curve."""
 import warnings

@@ -1,4 +1,5 @@
-"""The weighing chain on the real HX711 step recording (issue 9): behaviour
+"""The weighing chain on the real HX711 step recording (a sensor the
+defaults were not tuned on): behaviour
 with margins, not exact numbers.  Runs on the copy bundled in pysig/data
 (the same bytes as ../shared/data, checked when that is present)."""
 import numpy as np

@@ -1,4 +1,4 @@
-"""Candidate effects of the refinement loop (issue 6): each a named family
+"""Candidate effects of the refinement loop: each a named family
 with its own parameters, turned into regressor columns of one linear model.
 
 The measurement model refine fits, in the sensor's own unit (LSB, counts):

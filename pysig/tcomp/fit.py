@@ -1,4 +1,4 @@
-"""Training of the temperature-compensation model (issue 3): per axis, the
+"""Training of the temperature-compensation model: per axis, the
 least-squares polynomial f(T) of order 1-8 (pysig.lsq, centred and scaled
 temperature) and the correction delta(T) = f(T) - f(T0); order selection by
 leave-one-temperature-out cross-validation, reported per order like the
