@@ -2,7 +2,7 @@
 
     python bench/mcu_cost.py [--json FILE] [--vdd 3.3] [--orders 1-5]
 
-Table 1 (the paper's Table 2): temperature compensation of 3 axes
+Table 1 (the magnetometer paper's Table 2): temperature compensation of 3 axes
 (sig_tcomp_apply_q / _f) per polynomial order, fixed and float, and the
 compact fixed form (sig_tcomp16_apply_q): "fixed16" as portable C (clang
 calls the multiply helper per product) and "fixed16_inline" with the
@@ -39,8 +39,8 @@ TCOMP16_SRC = runner.csrc_sources("sig_tcomp16")  # the compact form (int16 mult
 PORT_MSP430 = runner.PORT_MSP430   # sig_port_msp430.h: the fixed16_inline build
 INLINE_DEFINES = {"SIG_PORT_HEADER": '"sig_port_msp430.h"', "MPY_BASE": runner.MSP430_MPY_BASE_SIM}
 CHAIN_SRC = runner.csrc_sources("sig_chain")     # + limit, antipulse, kalman1, stable, ...
-MCLK_HZ = 8_000_000          # MSP430F5510 as in the paper
-I_ACTIVE_A = 1.56e-3         # active current at 8 MHz (the paper's figure)
+MCLK_HZ = 8_000_000          # MSP430F5510 as in the magnetometer paper
+I_ACTIVE_A = 1.56e-3         # active current at 8 MHz (the magnetometer paper's figure)
 MCS51_HZ = 12_000_000
 AXES = 3
 

@@ -3,8 +3,8 @@ magnetometer paper's Table 3): for polynomial orders 1-6, the error after
 correction on held-out temperatures (leave-one-temperature-out, pysig.tcomp.fit)
 as RMS, max |error| and variance, on
 
-* simulated chamber data (pysig.sim.chamber, the paper's 0/25/50/70 °C steps,
-  several seeds; and a ramp profile), with the conditioning of the paper's
+* simulated chamber data (pysig.sim.chamber, the magnetometer paper's 0/25/50/70 °C steps,
+  several seeds; and a ramp profile), with the conditioning of the magnetometer paper's
   normal equations next to the scaled fit and the measured fixed-point error;
 * every recording in ../shared/data that has a temperature column.
 

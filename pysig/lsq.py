@@ -33,7 +33,7 @@ class PolyFit:
 
     def raw_coefficients(self):
         """Coefficients in ascending powers of x itself (un-scaled); worse
-        conditioned, for users who want the paper's form."""
+        conditioned, for users who want the magnetometer paper's form."""
         p = np.polynomial.Polynomial(self.coef, domain=[self.center - self.scale, self.center + self.scale],
                                      window=[-1, 1])
         return p.convert().coef
@@ -84,7 +84,7 @@ def fit_poly(x, y, order, center=None, scale=None, weights=None, what="fit"):
 
 
 def fit_normal_equations(x, y, order, what="fit"):
-    """The paper's form: solve (C^T C) a = C^T y on the raw (unscaled) x.
+    """The magnetometer paper's form: solve (C^T C) a = C^T y on the raw (unscaled) x.
     Returns (coef ascending in x, condition number of C^T C)."""
     x, y = _check(x, y, order, what)
     design = np.vander(x, order + 1, increasing=True)

@@ -2,7 +2,7 @@
 two load cells, 10-lb steps 0 -> 40 -> 0 lb put on by hand, ~1000 counts/lb,
 read glitches near -2^23).  Behaviour with margins, not exact numbers:
 the recommended preset (the default) lets no glitch through, reaches every
-plateau and settles; the paper's parameters lock out on the first step.
+plateau and settles; the weighing paper's parameters lock out on the first step.
 
 Measured when this test was written (float and fixed alike): settle times
 lc1 1.4-5.8 s (median 2.9 s), lc2 1.4-4.0 s (median 2.5 s) from the
@@ -77,7 +77,7 @@ def test_paper_parameters_lock_out_on_the_first_step(rec, channel):
     x = rec[channel]
     out, _ = Chain(preset="paper", units_per_kg=COUNTS_PER_LB / 0.45359237).process(x)
     base = np.median(x[:100])
-    # the load goes up to 40 lb; the paper's chain never gets near even 20 lb
+    # the load goes up to 40 lb; the weighing paper's chain never gets near even 20 lb
     assert np.max(out) < base + 15 * COUNTS_PER_LB
 
 

@@ -136,7 +136,7 @@ def test_chamber_model_within_half_lsb_plus_stated_error(order):
 
 
 def test_compact_error_is_small_next_to_the_int32_form():
-    """Order 2 (the paper's choice) on the chamber data: measured figures."""
+    """Order 2 (the magnetometer paper's choice) on the chamber data: measured figures."""
     m = fit.fit_tcomp(CHAMBER["temp"], {k: CHAMBER[k] for k in "xyz"}, order=2)
     cm = quant.quantize_compact(m)
     assert max(cm.error_lsb) < 0.15             # 0.5 * 2 levels * 7038 / 65536 = 0.107 + rounding

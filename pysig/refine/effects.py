@@ -3,7 +3,7 @@ with its own parameters, turned into regressor columns of one linear model.
 
 The measurement model refine fits, in the sensor's own unit (LSB, counts):
 
-    y = b0 + g*r + sum_k a_k u(T')^k                      base (the paper's)
+    y = b0 + g*r + sum_k a_k u(T')^k                      base (the magnetometer paper's)
           + sum_j d_j r u(T')^j                           gain_drift
           + h * (T' - play_w(T')) / w                     hysteresis
           + c * (lag_tau(r) - r) / |r|max                 creep

@@ -32,7 +32,7 @@ class ChamberParams:
     seed: int = 0
     sample_rate_hz: float = 1.0
     profile: str = "steps"                      # "steps" or "ramp"
-    step_temps_c: tuple = (0.0, 25.0, 50.0, 70.0)   # the paper's chamber steps
+    step_temps_c: tuple = (0.0, 25.0, 50.0, 70.0)   # the magnetometer paper's chamber steps
     dwell_s: float = 1800.0                     # time on each plateau
     ramp_c_per_min: float = 1.0                 # chamber slew between steps / ramp speed
     ramp_cycles: int = 1                        # "ramp": up min->max and back down, this many times

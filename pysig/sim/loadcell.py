@@ -1,4 +1,4 @@
-"""Load-cell simulator: what the paper's scale hardware would hand the filter.
+"""Load-cell simulator: what the weighing paper's scale hardware would hand the filter.
 
 An L6D-like strain-gauge cell (about 0.15 mV/kg at its excitation, rated
 2.5-50 kg) feeds a 24-bit ADS1232-like ADC: full scale +-0.5*Vref/PGA, one

@@ -14,16 +14,16 @@ Setup (every figure is a median and a worst case over --seeds seeds):
 - Accuracy runs ("the factory floor"): each mass on the cell from power-up,
   60 s at 10 samples/s; 20 readings, one per second over the last 20 s; the
   error of a configuration is its largest |reading - mass| over the 20 (the
-  paper does not say when its readings were taken: the first 20 s after
+  weighing paper does not say when its readings were taken: the first 20 s after
   power-up are reported too, where the Kalman filter has averaged less).
   Disturbances: vibration (white, proportional to the load: floor
   acceleration times mass) plus electrical impulses (0.1 per second, one
   polarity, 5..10 kg equivalent).  The vibration level is SOLVED for (brentq)
-  so that the median over seeds of the raw error at 30 kg is the paper's
+  so that the median over seeds of the raw error at 30 kg is the weighing paper's
   6.2 %; the impulse setting is chosen so that a plain Kalman filter errs by
-  about the paper's 1.8 % at the worst mass.
-- Configurations: raw samples; plain Kalman (the paper's Q 1e-7, R 0.05, x0
-  1, P0 10); the paper's chain (preset "paper"); "adaptive": the paper's
+  about the weighing paper's 1.8 % at the worst mass.
+- Configurations: raw samples; plain Kalman (the weighing paper's Q 1e-7, R 0.05, x0
+  1, P0 10); the weighing paper's chain (preset "paper"); "adaptive": the weighing paper's
   parameters with the lock-out fix (5 rejections) and the motion-aware mode
   (band 4 sigma of the window mean from the measured noise, 2 samples);
   "adaptive_preset" and "recommended": Chain(preset="adaptive") and the
@@ -38,7 +38,7 @@ Setup (every figure is a median and a worst case over --seeds seeds):
 - Settling ("the bench"): ADC noise 0.3 uV rms (2 g), the same impulses.
   The settle time is from the load change until the output is flagged
   stable and within 0.1 % of the new load, and stays within it up to the
-  next change.  paper: 10 -> 30 kg at 30 s, 900 s to follow.
+  next change.  "paper" chain: 10 -> 30 kg at 30 s, 900 s to follow.
   adaptive/recommended: a staircase 10, 30, 10, 50, 20, 40 kg, 15 s per
   level, the worst step counts; without swing (the headline figure), and
   with a swing after each change (2 % and 5 % of the step, 1.5 Hz, 0.5 s

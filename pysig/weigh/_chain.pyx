@@ -310,7 +310,7 @@ cdef class Chain:
     """limit -> anti-pulse -> Kalman -> stability (csrc/sig_chain.c).
 
     Chain(preset="recommended", fixed=False, units_per_kg=None, **overrides):
-    preset "paper" reproduces the paper; "recommended" (default) adds the
+    preset "paper" reproduces the weighing paper; "recommended" (default) adds the
     lock-out fix, motion-aware settling and zero tracking.  Parameters
     (A0, window, Q, R, x0, P0, seed_first, stable_step, stable_count,
     lockout_n, motion_band, motion_count, zero_band, zero_rate) are in kg;

@@ -133,7 +133,7 @@ def saturated_count(value):
 def calibrate(counts, masses, unit="kg"):
     """Least-squares straight line mass(counts) through (counts[i], masses[i]).
 
-    `counts` are the mean readings at each standard mass (the paper averages
+    `counts` are the mean readings at each standard mass (the weighing paper averages
     5 readings per mass), none at the 24-bit rails.  Needs at least 2
     distinct masses."""
     counts = np.asarray(counts, dtype=float).ravel()

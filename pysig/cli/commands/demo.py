@@ -4,7 +4,7 @@ The weighing chain on a real recording bundled with the package: two load
 cells read by an HX711 at 10 Hz while 10-lb weights are put on and taken off
 by hand, with real read glitches (mvsivaselvan/CIE324-Swing-Project, MIT).
 Calibrates counts -> lb on the plateaus it finds, runs the raw signal, the
-paper's chain, a plain Kalman filter and the recommended chain (the C code,
+weighing paper's chain, a plain Kalman filter and the recommended chain (the C code,
 through Cython), prints a table and writes a picture into DIR (default: the
 current directory), printing its path."""
 import os
@@ -54,7 +54,8 @@ def demo(path, out_dir, channel):
     print()
     print(_table(res["rows"]))
     print()
-    print("  paper_chain: the paper's parameters; its limit filter (A0 = 2 kg) refuses each 10-lb step.")
+    print("  paper_chain: the weighing paper's parameters; its limit filter (A0 = 2 kg) "
+          "refuses each 10-lb step.")
     print("  recommended: the default (lock-out fix, motion-aware settling, zero tracking).")
     png = os.path.join(out_dir, f"pysig_demo_{channel}.png")
     recording.plot_channel(png, d["t_s"], res,

@@ -7,7 +7,7 @@ with --status the chain's status bits per sample (4 impulse replaced,
 
 The default preset, `recommended`, is tuned on a real HX711 recording and
 expects HX711-class counts (1000 counts per lb) unless --units-per-kg says
-otherwise; `paper` reproduces the paper's parameters exactly (kg signal by
+otherwise; `paper` reproduces the weighing paper's parameters exactly (kg signal by
 default).  Every parameter option is in kg (variances in kg^2) and is
 converted to signal units with --units-per-kg.  The presets `recommended`
 and `adaptive` derive their thresholds from --R, the variance of one reading
