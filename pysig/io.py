@@ -18,11 +18,40 @@ from .errors import InputFileError, NonFiniteError, OutputFileError
 def read_csv(path, columns=None, allow_nonfinite=False):
     """Read a numeric CSV with a header row.
 
-    Returns a dict name -> float64 ndarray for the requested `columns` (all
-    columns when None), in file order.  Raises InputFileError naming the
-    file, row (1-based, header is row 1) and column for an empty file, a
-    header-only file, a missing column or a non-numeric cell, and
-    NonFiniteError for NaN/inf unless `allow_nonfinite`."""
+    Parameters
+    ----------
+    path : path-like
+        The CSV file.
+    columns : sequence of str, optional
+        The columns to return (all when None).
+    allow_nonfinite : bool, optional
+        Accept NaN and inf cells.
+
+    Returns
+    -------
+    dict
+        name -> float64 ndarray, in file order.
+
+    Raises
+    ------
+    InputFileError
+        Naming the file, row (1-based, the header is row 1) and column: an
+        unreadable or empty file, a header-only file, a missing column, a
+        non-numeric cell.
+    NonFiniteError
+        A NaN or inf cell, unless `allow_nonfinite`.
+
+    Examples
+    --------
+    >>> _ = open("in.csv", "w").write("t,counts\\n0.0,1000\\n0.1,1002\\n")
+    >>> read_csv("in.csv", ["counts"])
+    {'counts': array([1000., 1002.])}
+    >>> _ = open("bad.csv", "w").write("t,counts\\n0.0,1000\\n0.1,x\\n")
+    >>> read_csv("bad.csv")
+    Traceback (most recent call last):
+        ...
+    pysig.errors.InputFileError: bad.csv: row 3, column 'counts': not a number: 'x'
+    """
     try:
         with open(path, newline="") as fh:
             rows = list(csv.reader(fh))
@@ -59,8 +88,32 @@ def read_csv(path, columns=None, allow_nonfinite=False):
 
 
 def check_time_column(path, name, t):
-    """Times must be strictly increasing: duplicates and unsorted rows are
-    named by their row (header is row 1)."""
+    """Check that a time column read by `read_csv` strictly increases.
+
+    Parameters
+    ----------
+    path : path-like
+        The file the column came from (for the message).
+    name : str
+        The column's name (for the message).
+    t : ndarray
+        The times.
+
+    Raises
+    ------
+    InputFileError
+        A duplicate or decreasing time, named by its row (the header is
+        row 1).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> check_time_column("in.csv", "t", np.array([0.0, 0.1, 0.2]))
+    >>> check_time_column("in.csv", "t", np.array([0.0, 0.1, 0.1]))
+    Traceback (most recent call last):
+        ...
+    pysig.errors.InputFileError: in.csv: row 4, column 't': duplicate time 0.1 after 0.1
+    """
     dt = np.diff(t)
     bad = np.flatnonzero(dt <= 0)
     if bad.size:
@@ -78,8 +131,45 @@ def _umask():
 
 @contextmanager
 def atomic_output(path, mode="w", **kwargs):
-    """Open a temporary file beside `path`; rename it over `path` only when
-    the block finishes without an exception."""
+    """Write a file all or nothing: a context manager that opens a temporary
+    file beside `path` and renames it over `path` only when the block
+    finishes without an exception (else the temporary is removed and an
+    existing `path` is left as it was).
+
+    Parameters
+    ----------
+    path : path-like
+        The file to write.
+    mode : str, optional
+        "w" (text) or "wb" (binary).
+    **kwargs
+        Passed to `open` (newline, encoding, ...).
+
+    Yields
+    ------
+    file object
+        The temporary file.
+
+    Raises
+    ------
+    OutputFileError
+        The directory cannot be written or the rename fails.
+
+    Examples
+    --------
+    >>> with atomic_output("out.txt") as fh:
+    ...     _ = fh.write("done\\n")
+    >>> open("out.txt").read()
+    'done\\n'
+    >>> with atomic_output("out.txt") as fh:
+    ...     _ = fh.write("half")
+    ...     raise ValueError("stopped half way")
+    Traceback (most recent call last):
+        ...
+    ValueError: stopped half way
+    >>> open("out.txt").read()             # unchanged
+    'done\\n'
+    """
     directory = os.path.dirname(os.path.abspath(path))
     try:
         fd, tmp = tempfile.mkstemp(prefix=".pysig-", dir=directory)
@@ -100,8 +190,31 @@ def atomic_output(path, mode="w", **kwargs):
 
 
 def write_csv(path, columns):
-    """Write a dict name -> 1-D array as CSV, atomically.  Integer-valued
-    arrays are written as integers, floats with repr precision."""
+    """Write columns as a CSV file, atomically (see `atomic_output`).
+
+    Parameters
+    ----------
+    path : path-like
+        The file to write.
+    columns : dict
+        name -> 1-D array, all of one length.  Integer and bool arrays are
+        written as integers, floats with repr precision (they read back
+        exactly).
+
+    Raises
+    ------
+    OutputFileError
+        The file cannot be written; nothing is left behind.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> write_csv("out.csv", {"t": np.array([0.0, 0.1]), "stable": np.array([False, True])})
+    >>> print(open("out.csv").read(), end="")
+    t,stable
+    0.0,0
+    0.1,1
+    """
     names = list(columns)
     arrays = [np.asarray(columns[n]) for n in names]
     with atomic_output(path, newline="") as fh:

@@ -31,7 +31,33 @@ _STATUS_TEXT = {ref.SIG_ERR_FORMAT: "bad magic, version, length or section layou
 
 
 def build_image(sections, sequence=1):
-    """Image bytes from [(type, payload)]; ValueError for a bad type or size."""
+    """The bytes of a coefficient image (format: csrc/include/sig_image.h):
+    header, sections, CRC.
+
+    Parameters
+    ----------
+    sections : iterable of (int, bytes)
+        (type id 1..65535, payload) pairs, in order.
+    sequence : int, optional
+        uint32 sequence number (the A/B slot with the higher one wins).
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    ValueError
+        A type id, payload or image size, or a sequence out of range.
+
+    Examples
+    --------
+    >>> image = build_image([(SECTION_EXPERIMENTAL, b"hello")], sequence=7)
+    >>> len(image), image[:4]
+    (23, b'psig')
+    >>> read_image(image)
+    (7, [(32768, b'hello')])
+    """
     sections = [(int(t), bytes(p)) for t, p in sections]
     for t, p in sections:
         if not 1 <= t <= 0xFFFF:
@@ -47,7 +73,34 @@ def build_image(sections, sequence=1):
 
 
 def read_image(data, where="image"):
-    """(sequence, [(type, payload)]) of a valid image; ModelFileError otherwise."""
+    """Validate an image (magic, version, lengths, CRC) and split it.
+
+    Parameters
+    ----------
+    data : bytes-like
+        The image.
+    where : str, optional
+        Names the image in error messages.
+
+    Returns
+    -------
+    sequence : int
+    sections : list of (int, bytes)
+
+    Raises
+    ------
+    ModelFileError
+        A corrupt image, saying what is wrong (format or CRC).
+
+    Examples
+    --------
+    >>> image = bytearray(build_image([(SECTION_EXPERIMENTAL, b"hello")]))
+    >>> image[-1] ^= 1                                   # one flipped bit
+    >>> read_image(image)
+    Traceback (most recent call last):
+        ...
+    pysig.errors.ModelFileError: image: corrupt coefficient image: CRC mismatch (corrupt or partly written)
+    """
     data = bytes(data)
     st = ref.validate(data)
     if st != ref.SIG_OK:
@@ -56,6 +109,36 @@ def read_image(data, where="image"):
 
 
 def find_section(data, typ, where="image"):
+    """The payload of the first section of type `typ` in a valid image.
+
+    Parameters
+    ----------
+    data : bytes-like
+        The image.
+    typ : int
+        The section type (SECTION_*).
+    where : str, optional
+        Names the image in error messages.
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    ModelFileError
+        A corrupt image, or no section of that type.
+
+    Examples
+    --------
+    >>> image = build_image([(SECTION_EXPERIMENTAL, b"hello")])
+    >>> find_section(image, SECTION_EXPERIMENTAL)
+    b'hello'
+    >>> find_section(image, SECTION_OFFSET_POLY)
+    Traceback (most recent call last):
+        ...
+    pysig.errors.ModelFileError: image: no section of type 1 in the image
+    """
     _, sections = read_image(data, where)
     for t, p in sections:
         if t == typ:
@@ -95,7 +178,37 @@ def parse_offset_poly(payload, where="image"):
 
 
 def model_image(model, sequence=1, extra_sections=()):
-    """The NVM image of a model: its offset section plus any others."""
+    """The NVM image of a temperature model: its offset section (the
+    fixed-point form sig_tcomp_load_image reads) plus any others.
+
+    Parameters
+    ----------
+    model : TcompModel
+        A fitted model (pysig.tcomp.model).
+    sequence : int, optional
+        uint32 sequence number.
+    extra_sections : iterable of (int, bytes), optional
+        More sections after the offset one.
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    ValueError
+        A bad section or sequence (see `build_image`).
+
+    Examples
+    --------
+    >>> from pysig.sim.chamber import ChamberParams, simulate
+    >>> from pysig.tcomp.fit import fit_tcomp
+    >>> run = simulate(ChamberParams(dwell_s=600.0))
+    >>> image = model_image(fit_tcomp(run["temp"], {"x": run["x"]}, order=2), sequence=3)
+    >>> fields = parse_offset_poly(find_section(image, SECTION_OFFSET_POLY))
+    >>> fields["order"], fields["t_lo"], fields["t_hi"]
+    (2, -19, 7012)
+    """
     return build_image([(SECTION_OFFSET_POLY, offset_poly_payload(model)), *extra_sections], sequence)
 
 

@@ -123,8 +123,59 @@ def require_temperatures(groups, order, temp, what="fit"):
 
 
 def fit_tcomp(temp, columns, order=2, t0=25.0, temp_column="temp", groups=None, what="fit"):
-    """Fit the compensation model. `columns`: dict name -> readings (1..3).
-    `order` an int 1..8 or "auto" (cross-validated, see `select_order`)."""
+    """Fit the temperature-compensation model of 1 to 3 axes.
+
+    Parameters
+    ----------
+    temp : array_like
+        The temperature of each sample, °C.
+    columns : dict
+        name -> readings (int16 sensor codes as floats), 1 to 3 axes, each
+        as long as `temp`.
+    order : int or "auto", optional
+        Polynomial order 1..8, or "auto": the smallest order whose
+        held-out variance is within 5 % of the best (`cross_validate`,
+        `select_order`).
+    t0 : float, optional
+        Reference temperature (°C) where the correction is zero; inside
+        the calibrated range.
+    temp_column : str, optional
+        The temperature column's name, stored in the model.
+    groups : TemperatureGroups, optional
+        Precomputed `temperature_groups(temp)`.
+    what : str, optional
+        Names the data in error messages.
+
+    Returns
+    -------
+    TcompModel
+        Float and fixed-point coefficients per axis, the temperature
+        scaling, and a report (groups, per-axis RMS and conditioning, the
+        CV table with "auto").
+
+    Raises
+    ------
+    InsufficientDataError
+        Fewer distinct temperatures than the order needs (order + 1).
+    RangeError
+        A bad order, T0 outside the range, or a drift too steep for the
+        fixed-point form.
+    NonFiniteError, SaturationError
+        NaN/inf inputs or readings at the int16 rails.
+
+    Examples
+    --------
+    >>> from pysig.sim.chamber import ChamberParams, simulate
+    >>> run = simulate(ChamberParams(dwell_s=600.0))        # 0/25/50/70 °C steps
+    >>> model = fit_tcomp(run["temp"], {"x": run["x"], "y": run["y"]}, order="auto")
+    >>> model.order, model.axes
+    (2, ['x', 'y'])
+    >>> import numpy as np
+    >>> fit_tcomp(np.r_[np.full(50, 25.0), np.full(50, 40.0)], {"x": np.arange(100.0)}, order=2)
+    Traceback (most recent call last):
+        ...
+    pysig.errors.InsufficientDataError: fit: order 2 needs at least 3 distinct temperatures, ...
+    """
     temp, columns = check_inputs(temp, columns, what)
     if groups is None:
         groups = temperature_groups(temp)
@@ -175,12 +226,41 @@ def fit_tcomp(temp, columns, order=2, t0=25.0, temp_column="temp", groups=None, 
 
 
 def cross_validate(temp, columns, orders=range(1, MAX_FIT_ORDER + 1), groups=None):
-    """Leave-one-temperature-out: for each counted group, fit on the others
-    and measure the residual y - f(T) on the held-out group (the polynomial
-    itself, not clamped: CV judges the curve).  Per order: RMS, max |error|
-    and variance of the held-out residuals per axis and pooled; "raw" is the
-    error without correction (y minus its mean).  Orders whose training folds
-    would have fewer than order + 1 temperatures are reported as refused."""
+    """Leave-one-temperature-out cross-validation of each polynomial order.
+
+    For each counted temperature group, fit on the others and measure the
+    residual y - f(T) on the held-out group (the polynomial itself, not
+    clamped: CV judges the curve).
+
+    Parameters
+    ----------
+    temp : array_like
+        Temperatures, °C.
+    columns : dict
+        name -> readings, as for `fit_tcomp`.
+    orders : iterable of int, optional
+        The orders to score.
+    groups : TemperatureGroups, optional
+        Precomputed `temperature_groups(temp)` (the folds).
+
+    Returns
+    -------
+    list of dict
+        One row per order (first "raw": the error without correction, y
+        minus its mean): RMS, max |error| and variance of the held-out
+        residuals, pooled and per axis.  An order whose training folds
+        would have fewer than order + 1 temperatures carries "refused".
+
+    Examples
+    --------
+    >>> from pysig.sim.chamber import ChamberParams, simulate
+    >>> run = simulate(ChamberParams(dwell_s=600.0))
+    >>> cv = cross_validate(run["temp"], {"x": run["x"]}, orders=(1, 2, 3))
+    >>> [(r["label"], round(r["rms"])) for r in cv]
+    [('raw', 37), ('order 1', 21), ('order 2', 4), ('order 3', 4)]
+    >>> select_order(cv)
+    2
+    """
     temp, columns = check_inputs(temp, columns, "cross-validation")
     if groups is None:
         groups = temperature_groups(temp)
@@ -214,7 +294,32 @@ def _stats(resid):
 
 def select_order(cv, tolerance=0.05):
     """Smallest order whose pooled held-out variance is within `tolerance`
-    of the best cross-validated order."""
+    of the best cross-validated order.
+
+    Parameters
+    ----------
+    cv : list of dict
+        The rows of `cross_validate`.
+    tolerance : float, optional
+        Relative slack on the best variance.
+
+    Returns
+    -------
+    int
+        The order.
+
+    Raises
+    ------
+    InsufficientDataError
+        No order could be cross-validated (fewer than 3 temperatures).
+
+    Examples
+    --------
+    >>> rows = [{"order": 0, "var": 9.0}, {"order": 1, "var": 4.0},
+    ...         {"order": 2, "var": 1.0}, {"order": 3, "var": 0.98}]
+    >>> select_order(rows)
+    2
+    """
     ok = [r for r in cv if r["order"] >= 1 and "refused" not in r]
     if not ok:
         raise InsufficientDataError("order selection: no order could be cross-validated "

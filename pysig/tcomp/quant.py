@@ -49,7 +49,34 @@ class TemperatureScaling:
 
 
 def to_centi(temp_c, what="temperature"):
-    """°C -> int16 counts of 0.01 °C (rounded); RangeError outside int16."""
+    """°C -> counts of 0.01 °C, the temperature unit of the C models.
+
+    Parameters
+    ----------
+    temp_c : array_like
+        Temperatures, °C.
+    what : str, optional
+        Names the data in the error message.
+
+    Returns
+    -------
+    ndarray of int64
+        Rounded to the nearest 0.01 °C (half to even), each within int16.
+
+    Raises
+    ------
+    RangeError
+        A temperature outside -327.68 .. 327.67 °C.
+
+    Examples
+    --------
+    >>> to_centi([25.0, -0.125])
+    array([2500,  -12])
+    >>> to_centi([400.0])
+    Traceback (most recent call last):
+        ...
+    pysig.errors.RangeError: temperature: 400.0 °C does not fit an int16 in 0.01 °C ...
+    """
     t = np.rint(np.asarray(temp_c, dtype=float) * T_PER_DEGC)
     if t.size and (t.min() < -32768 or t.max() > 32767):
         raise RangeError(f"{what}: {float(np.max(np.abs(temp_c)))} °C does not fit an int16 "
@@ -58,7 +85,30 @@ def to_centi(temp_c, what="temperature"):
 
 
 def choose_scaling(t_lo, t_hi):
-    """Scaling for a calibrated range [t_lo, t_hi] in 0.01 °C (ints)."""
+    """The int16 temperature scaling of a calibrated range.
+
+    u = (T - t_center) * u_mul >> u_shift maps [t_lo, t_hi] onto about
+    [-32767, 32767] (Q15), the abscissa of the C polynomial.
+
+    Parameters
+    ----------
+    t_lo, t_hi : int
+        The calibrated range in 0.01 °C, t_lo < t_hi, both int16.
+
+    Returns
+    -------
+    TemperatureScaling
+
+    Raises
+    ------
+    RangeError
+        A range outside int16, empty, or wider than 655.34 °C.
+
+    Examples
+    --------
+    >>> choose_scaling(-19, 7012)
+    TemperatureScaling(t_lo=-19, t_hi=7012, t_center=3496, u_mul=19086, u_shift=11)
+    """
     t_lo, t_hi = int(t_lo), int(t_hi)
     if not (-32768 <= t_lo < t_hi <= 32767):
         raise RangeError(f"calibrated range [{t_lo}, {t_hi}] (0.01 °C) must satisfy "
@@ -82,8 +132,32 @@ class QuantizedAxis:
 
 
 def quantize_axis(coef, what="axis"):
-    """Q format and int32 coefficients for one axis' delta polynomial
-    (float coefficients in reading LSB, ascending powers of u)."""
+    """Q format and int32 coefficients for one axis' delta polynomial.
+
+    Parameters
+    ----------
+    coef : sequence of float
+        Coefficients in reading LSB, ascending powers of u.
+    what : str, optional
+        Names the axis in error messages.
+
+    Returns
+    -------
+    QuantizedAxis
+        q (the most fraction bits whose Horner sums fit int32), the int32
+        coefficients, and a bound on |fixed delta - float delta| in LSB.
+
+    Raises
+    ------
+    RangeError
+        A non-finite coefficient, or one too large for int32 even at Q0.
+
+    Examples
+    --------
+    >>> qa = quantize_axis([12.5, -3.25, 0.75])
+    >>> qa.q, qa.coef
+    (26, (838860800, -218103808, 50331648))
+    """
     coef = [float(c) for c in coef]
     if not all(math.isfinite(c) for c in coef):
         raise RangeError(f"{what}: non-finite coefficient {coef}")
@@ -174,12 +248,42 @@ def compact_eval(top, add, w_shift, v):
 
 
 def quantize_compact(model, max_error_lsb=COMPACT_MAX_ERROR_LSB, what="compact form"):
-    """CompactModel for a TcompModel (pysig.tcomp.model), or RangeError naming the
-    axis and the limit it breaks: order above 5, a range wider than 327.67 °C
-    (order >= 2), a drift whose Horner partial sums the int16 levels cannot
-    hold (sig_tcomp16_init's bound: e.g. a slope of 50 LSB/°C or more), or a
-    measured error above max_error_lsb.  The error is measured exactly, at
-    every 0.01 °C of the range, against the model's float64 delta."""
+    """The compact (16x16-multiply) form of a model, for sig_tcomp16.
+
+    Parameters
+    ----------
+    model : TcompModel
+        A fitted model (pysig.tcomp.model).
+    max_error_lsb : float, optional
+        The largest accepted |compact correction - float64 delta|, LSB.
+    what : str, optional
+        Names the model in error messages.
+
+    Returns
+    -------
+    CompactModel
+        The fields of sig_tcomp16_init and the error per axis, measured
+        exactly at every 0.01 °C of the range against the float64 delta.
+
+    Raises
+    ------
+    RangeError
+        Naming the axis and the limit it breaks: order above 5, a range
+        wider than 327.67 °C (order >= 2), a drift whose Horner partial sums
+        the int16 levels cannot hold (sig_tcomp16_init's bound: e.g. a slope
+        of 50 LSB/°C or more), or a measured error above `max_error_lsb`.
+
+    Examples
+    --------
+    >>> from pysig.sim.chamber import ChamberParams, simulate
+    >>> from pysig.tcomp.fit import fit_tcomp
+    >>> run = simulate(ChamberParams(dwell_s=600.0))
+    >>> compact = quantize_compact(fit_tcomp(run["temp"], {"x": run["x"]}, order=2))
+    >>> compact.t_lo, compact.t_hi, compact.top
+    (-19, 7012, (1605,))
+    >>> [round(e, 2) for e in compact.error_lsb]
+    [0.07]
+    """
     from ..reference import tcomp16 as ref16
     s = model.scaling
     order = int(model.order)
