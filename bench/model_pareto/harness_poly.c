@@ -10,6 +10,7 @@
 #include <stdint.h>
 #include "sig_tcomp.h"
 #include "pareto_case.h"
+#include "pareto_marks.h"
 
 int32_t coef[N_AXES * (ORDER + 1)] = POLY_COEF;
 uint8_t qs[N_AXES] = POLY_Q;
@@ -22,20 +23,6 @@ int16_t init_status;
 int32_t first_out;
 sig_tcomp_q model;
 
-#if defined(__clang__) || defined(__GNUC__)
-#define NOINLINE __attribute__((noinline))
-#else
-#define NOINLINE
-#endif
-
-volatile uint8_t bench_mark;
-NOINLINE void bench_start(void) { bench_mark = 1; }
-NOINLINE void bench_axis1(void) { bench_mark = 2; }
-NOINLINE void bench_axis2(void) { bench_mark = 3; }
-NOINLINE void bench_stop(void) { bench_mark = 4; }
-NOINLINE void bench_null_start(void) { bench_mark = 5; }
-NOINLINE void bench_null_stop(void) { bench_mark = 6; }
-NOINLINE void bench_done(void) { bench_mark = 7; }
 /* same signature and loop as the function under test, no work */
 NOINLINE sig_status bench_null(const sig_tcomp_q *m, uint8_t axis, int16_t t, int32_t *o)
 {
@@ -62,16 +49,6 @@ int main(void)
     init_status = sig_tcomp_init_q(&model, N_AXES, ORDER, coef, qs, POLY_T_LO, POLY_T_HI,
                                    POLY_T_CENTER, POLY_T_CENTER, POLY_U_MUL, POLY_U_SHIFT);
     (void)sig_tcomp_delta_q(&model, 0, temps[N_TEMPS / 2], &first_out);
-    bench_start();
-    run_axis(0);
-    bench_axis1();
-    run_axis(1);
-    bench_axis2();
-    run_axis(2);
-    bench_stop();
-    bench_null_start();
-    run_null(0);
-    bench_null_stop();
-    bench_done();
+    measure_three_axes();
     return 0;
 }

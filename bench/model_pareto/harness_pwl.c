@@ -9,6 +9,7 @@
 #include <stdint.h>
 #include "sig_pwl.h"
 #include "pareto_case.h"
+#include "pareto_marks.h"
 
 int16_t tables[N_AXES][N_KNOTS] = PWL_TABLES;
 int16_t ranges[N_AXES][2] = PWL_RANGES;
@@ -23,20 +24,6 @@ int32_t null_out[N_AXES][N_TEMPS];
 int16_t null_status[N_AXES][N_TEMPS];
 sig_pwl_q16 pwl[N_AXES];
 
-#if defined(__clang__) || defined(__GNUC__)
-#define NOINLINE __attribute__((noinline))
-#else
-#define NOINLINE
-#endif
-
-volatile uint8_t bench_mark;
-NOINLINE void bench_start(void) { bench_mark = 1; }
-NOINLINE void bench_axis1(void) { bench_mark = 2; }
-NOINLINE void bench_axis2(void) { bench_mark = 3; }
-NOINLINE void bench_stop(void) { bench_mark = 4; }
-NOINLINE void bench_null_start(void) { bench_mark = 5; }
-NOINLINE void bench_null_stop(void) { bench_mark = 6; }
-NOINLINE void bench_done(void) { bench_mark = 7; }
 /* same signature and loop as the function under test, no work */
 NOINLINE sig_status bench_null(const sig_pwl_q16 *p, int16_t t, int32_t *o)
 {
@@ -65,16 +52,6 @@ int main(void)
                                           recips[a], vfs[a]);
     }
     (void)sig_pwl_eval_q16(&pwl[0], temps[N_TEMPS / 2], &first_out);
-    bench_start();
-    run_axis(0);
-    bench_axis1();
-    run_axis(1);
-    bench_axis2();
-    run_axis(2);
-    bench_stop();
-    bench_null_start();
-    run_null(0);
-    bench_null_stop();
-    bench_done();
+    measure_three_axes();
     return 0;
 }

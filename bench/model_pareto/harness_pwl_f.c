@@ -5,6 +5,7 @@
 #include <stdint.h>
 #include "sig_pwl.h"
 #include "pareto_case.h"
+#include "../mcu/harness/bench_marks.h"
 
 sig_real table[N_KNOTS] = TABLE_F;
 sig_real temps[N_TEMPS] = TEMPS_F;
@@ -14,17 +15,6 @@ int16_t status[N_TEMPS];
 int16_t init_status;
 sig_real first_out;
 sig_pwl_f pwl;
-
-#if defined(__clang__) || defined(__GNUC__)
-#define NOINLINE __attribute__((noinline))
-#else
-#define NOINLINE
-#endif
-
-volatile uint8_t bench_mark;
-NOINLINE void bench_start(void) { bench_mark = 1; }
-NOINLINE void bench_stop(void) { bench_mark = 2; }
-NOINLINE void bench_done(void) { bench_mark = 3; }
 
 int main(void)
 {

@@ -1,21 +1,12 @@
 /* harness_loop.c - N calls between two marker functions. */
 #include <stdint.h>
 #include "bench_funcs.h"
+#include "../harness/bench_marks.h"
 #define N 8
 int32_t z[N] = { INT32_C(6651904), INT32_C(6619136), INT32_C(6684672), INT32_C(6553600),
                  INT32_C(6560000), INT32_C(6600000), INT32_C(6590000), INT32_C(6610000) };
 kf1_q16_t kf = { INT32_C(6553600), INT32_C(65536), INT32_C(655), INT32_C(32768) };
 volatile int32_t out;
-#if defined(__clang__) || defined(__GNUC__)
-#define NOINLINE __attribute__((noinline))
-#else
-#define NOINLINE
-#endif
-/* Markers need a side effect: clang deletes calls to empty functions. */
-volatile uint8_t bench_mark;
-NOINLINE void bench_start(void) { bench_mark = 1; }
-NOINLINE void bench_stop(void) { bench_mark = 2; }
-NOINLINE void bench_done(void) { bench_mark = 3; }
 int main(void)
 {
     uint8_t i;
