@@ -455,25 +455,15 @@ def targets(t1, t2, a):
                     and (r["multiplier"] != "none") == hw)
     checks = []
     if t1 and 2 in _orders(a.orders):
-        q2, f2 = pick("fixed", 2), pick("float", 2)
-        checks.append({"target": "fixed order-2, 3 axes, MSP430 hw <= 300 cycles",
-                       "measured": q2["cycles"], "met": q2["cycles"] <= 300})
-        checks.append({"target": "float/fixed cycles >= 10x (order 2, hw)",
-                       "measured": round(f2["cycles"] / q2["cycles"], 2),
-                       "met": f2["cycles"] >= 10 * q2["cycles"]})
-        c2 = pick("fixed16", 2)
-        checks.append({"target": "fixed16 (compact) order-2, 3 axes, MSP430 hw <= 300 cycles",
-                       "measured": c2["cycles"], "met": c2["cycles"] <= 300})
-        checks.append({"target": "float/fixed16 cycles >= 10x (order 2, hw)",
-                       "measured": round(f2["cycles"] / c2["cycles"], 2),
-                       "met": f2["cycles"] >= 10 * c2["cycles"]})
-        i2 = pick("fixed16_inline", 2)
-        checks.append({"target": "fixed16_inline (compact, port hooks) order-2, 3 axes, MSP430 hw "
-                                 "<= 300 cycles",
-                       "measured": i2["cycles"], "met": i2["cycles"] <= 300})
-        checks.append({"target": "float/fixed16_inline cycles >= 10x (order 2, hw)",
-                       "measured": round(f2["cycles"] / i2["cycles"], 2),
-                       "met": f2["cycles"] >= 10 * i2["cycles"]})
+        f2 = pick("float", 2)
+        for form, label in (("fixed", "fixed"), ("fixed16", "fixed16 (compact)"),
+                            ("fixed16_inline", "fixed16_inline (compact, port hooks)")):
+            r2 = pick(form, 2)
+            checks.append({"target": f"{label} order-2, 3 axes, MSP430 hw <= 300 cycles",
+                           "measured": r2["cycles"], "met": r2["cycles"] <= 300})
+            checks.append({"target": f"float/{form} cycles >= 10x (order 2, hw)",
+                           "measured": round(f2["cycles"] / r2["cycles"], 2),
+                           "met": f2["cycles"] >= 10 * r2["cycles"]})
     c51 = next((r for r in t2 if r["target"].startswith("8051") and r["form"] == "fixed"), None)
     if c51:
         checks.append({"target": "fixed chain step on the 8051 <= 3000 12T clocks",

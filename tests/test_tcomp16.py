@@ -7,13 +7,12 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
+from conftest import I16, I32, draw_int16_rows
 from pysig.tcomp import _tcomp16, fit, quant
 from pysig.sim import chamber as sim_chamber
 from pysig.errors import RangeError
 from pysig.reference import tcomp16 as ref
 
-I16 = st.integers(-32768, 32767)
-I32 = st.integers(-(1 << 31), (1 << 31) - 1)
 LEVEL_MAX = 32767 * 65536          # |h * x + add| <= this keeps the next h within int16
 
 
@@ -51,7 +50,7 @@ def compact_models(draw):
 def test_apply_q_bit_exact(model, temps, data):
     c = _tcomp16.Tcomp16Q.from_fields(**model)
     n = len(model["top"])
-    x = np.array([[data.draw(I16) for _ in range(n)] for _ in temps], dtype=np.int16)
+    x = draw_int16_rows(data, len(temps), n)
     t = temps + [model["t_lo"], model["t_hi"]]                 # the range ends, where |h| peaks
     x = np.vstack([x, np.full((2, n), 32767, np.int16)])
     out, status = c.apply(np.array(t), x)

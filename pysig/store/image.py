@@ -185,19 +185,14 @@ def model_image(model, sequence=1, extra_sections=()):
     ----------
     model : TcompModel
         A fitted model (pysig.tcomp.model).
-    sequence : int, optional
-        uint32 sequence number.
-    extra_sections : iterable of (int, bytes), optional
-        More sections after the offset one.
+    sequence, extra_sections : optional
+        The image's sequence number and more (type, payload) sections
+        after the offset one, as for `build_image` (which raises
+        ValueError for a bad one).
 
     Returns
     -------
     bytes
-
-    Raises
-    ------
-    ValueError
-        A bad section or sequence (see `build_image`).
 
     Examples
     --------

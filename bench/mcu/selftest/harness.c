@@ -3,6 +3,7 @@
  * can be constant-folded. */
 #include <stdint.h>
 #include "bench_funcs.h"
+#include "../harness/bench_marks.h"
 
 int32_t coef_q16[3] = { INT32_C(210371), INT32_C(-29930), INT32_C(806) };  /* 3.21, -0.4567, 0.0123 */
 int32_t x_q16 = INT32_C(1536819);                                          /* 23.45 */
@@ -18,16 +19,7 @@ float z_f = 101.5f;
 int32_t res_poly_q16, res_kf_q16, res_poly_n32, res_kf_n32;
 float res_poly_f, res_kf_f;
 
-#if defined(__clang__) || defined(__GNUC__)
-#define NOINLINE __attribute__((noinline))
-#else
-#define NOINLINE            /* sdcc never inlines a function without 'inline' */
-#endif
-
-/* The 8051 run stops at this symbol: the program has finished.  It needs a
- * side effect: clang deletes calls to empty functions, noinline or not. */
-volatile uint8_t bench_mark;
-NOINLINE void bench_done(void) { bench_mark = 3; }
+/* The 8051 run stops at bench_done: the program has finished. */
 
 int main(void)
 {
