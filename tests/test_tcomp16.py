@@ -48,12 +48,10 @@ def compact_models(draw):
 @settings(max_examples=300, deadline=None)
 @given(model=compact_models(), temps=st.lists(I16, min_size=1, max_size=8), data=st.data())
 def test_apply_q_bit_exact(model, temps, data):
-    c = _tcomp16.Tcomp16Q.from_fields(**model)
     n = len(model["top"])
-    x = draw_int16_rows(data, len(temps), n)
     t = temps + [model["t_lo"], model["t_hi"]]                 # the range ends, where |h| peaks
-    x = np.vstack([x, np.full((2, n), 32767, np.int16)])
-    out, status = c.apply(np.array(t), x)
+    x = np.vstack([draw_int16_rows(data, len(temps), n), np.full((2, n), 32767, np.int16)])
+    out, status = _tcomp16.Tcomp16Q.from_fields(**model).apply(np.array(t), x)
     for i, ti in enumerate(t):
         assert (list(out[i]), status[i]) == ref.apply_q(model, ti, [int(v) for v in x[i]])
 
