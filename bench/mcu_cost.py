@@ -6,7 +6,7 @@ Table 1 (the magnetometer paper's Table 2): temperature compensation of 3 axes
 (sig_tcomp_apply_q / _f) per polynomial order, fixed and float, and the
 compact fixed form (sig_tcomp16_apply_q): "fixed16" as portable C (clang
 calls the multiply helper per product) and "fixed16_inline" with the
-csrc/sig_port.h hooks mapped onto the multiplier's MAC/MACS by
+csrc/include/sig_port.h hooks mapped onto the multiplier's MAC/MACS by
 csrc/port/msp430/sig_port_msp430.h (plain C volatile accesses), on the
 MSP430F5510 at 8 MHz: .text bytes of the compensation code, RAM (model +
 stack high-water), cycles per call, time, energy per call at 1.56 mA and VDD.
@@ -51,7 +51,7 @@ TARGETS = {"tcomp_q2_hw_cycles": 300, "tcomp_float_over_fixed": 10.0, "chain_q_8
 # ------------------------------------------------------ operation models ---
 def tcomp_ops(form: str, order: int, axes: int = AXES) -> dict:
     """Operations of one sig_tcomp_apply_q/_f call, read off the algorithm in
-    csrc/sig_tcomp.c + sig_poly.c (in-range temperature, no saturation).
+    csrc/tcomp/sig_tcomp.c + sig_poly.c (in-range temperature, no saturation).
     fixed: scale u = (d*u_mul + r) >> s (one 16x16 product); per axis `order`
     Horner steps of floor(acc*u/2^15) = 2*hi*u + lo*u>>15 (two 16x16
     products, a 32-bit add with saturation test), then a rounding shift by q
@@ -84,7 +84,7 @@ def tcomp_ops(form: str, order: int, axes: int = AXES) -> dict:
 
 def chain_ops(form: str, window: int = 12) -> dict:
     """One sig_chain_step in steady state (window full, no min/max rescan,
-    Kalman gain converged: no Newton iteration), read off csrc/sig_limit.c,
+    Kalman gain converged: no Newton iteration), read off csrc/weigh/sig_limit.c,
     sig_antipulse.c, sig_kalman1.c, sig_stable.c, sig_chain.c.
     fixed: limit |x-Dc| > A0; window insert, running min/max, sum - old + x,
     trimmed sum / (N-2) by a reciprocal (sig_mulhi_u32: 4 16x16 products, one
@@ -151,7 +151,7 @@ def tcomp_row(order: int, form: str, hwmult: bool, vdd: float) -> dict:
 
 
 def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False) -> dict:
-    """The compact form (csrc/sig_tcomp16.c) on the same temperatures and
+    """The compact form (csrc/tcomp/sig_tcomp16.c) on the same temperatures and
     readings as tcomp_row, the same polynomial quantised by
     pysig.tcomp.quant.quantize_compact (bench/mcu/tcomp16_vectors.py), checked
     against the host C before the row is returned.  inline: the same C with
@@ -412,7 +412,7 @@ def print_table1(t1, a):
     print("fixed = sig_tcomp (int32 coefficients, Q15 abscissa); fixed16 = sig_tcomp16 (int16 "
           "multiplicands, 16x16 multiply-accumulates; compact_error_lsb: its measured quantisation "
           "error over every 0.01 degC of the range, on top of the 0.5 LSB output rounding); "
-          "fixed16_inline = the same C with the csrc/sig_port.h hooks of "
+          "fixed16_inline = the same C with the csrc/include/sig_port.h hooks of "
           "csrc/port/msp430/sig_port_msp430.h (MAC/MACS on the multiplier, no helper calls; "
           "assumes no ISR uses the multiplier)")
     print("ops model per call (fixed | fixed16 | fixed16_inline | float):")

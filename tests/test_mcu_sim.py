@@ -35,7 +35,7 @@ def _tools(target):
             require_tool(t)
 
 
-# sdcc --model-large alone links neither csrc/sig_tcomp.c + sig_poly.c nor the
+# sdcc --model-large alone links neither csrc/tcomp/sig_tcomp.c + sig_poly.c nor the
 # chain: sdcc keeps the spill temporaries of every non-reentrant function in
 # the 8051's 128-byte direct RAM (chain modules: ~390 bytes).  With
 # --stack-auto they live on the stack in internal RAM instead, and the runner

@@ -1,6 +1,6 @@
-"""Firmware == Python for the compact compensation (csrc/sig_tcomp16.c): the
+"""Firmware == Python for the compact compensation (csrc/tcomp/sig_tcomp16.c): the
 very csrc/ code, built for the MSP430F5510 (clang: multiplier helpers on
-mspdebug's simulated 16x16 MPY; the inline build whose csrc/sig_port.h hooks
+mspdebug's simulated 16x16 MPY; the inline build whose csrc/include/sig_port.h hooks
 are csrc/port/msp430/sig_port_msp430.h, MAC/MACS on that multiplier; the
 no-multiplier build) and for the 8051 (sdcc --model-large), runs 50
 temperature/reading pairs in the simulators; the

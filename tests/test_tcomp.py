@@ -1,4 +1,4 @@
-"""Temperature compensation in C (csrc/sig_poly.c, sig_tcomp.c) against the
+"""Temperature compensation in C (csrc/tcomp/sig_poly.c, sig_tcomp.c) against the
 pure-Python spec (pysig/reference/tcomp.py): bit for bit on the fixed-point
 path for any int16 temperature and reading, within a stated tolerance on the
 float path; clamping is flagged, never silent; bad parameters are refused."""

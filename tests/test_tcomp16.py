@@ -1,4 +1,4 @@
-"""Compact temperature compensation (csrc/sig_tcomp16.c) against its
+"""Compact temperature compensation (csrc/tcomp/sig_tcomp16.c) against its
 pure-Python spec (pysig/reference/tcomp16.py), bit for bit; the quantiser
 (pysig.tcomp.quant.quantize_compact): its stated error is exact and honest, the
 outputs stay within 0.5 LSB + that error of the float64 model on the chamber

@@ -3,7 +3,7 @@
  * pareto_case.h (generated per case) defines N_AXES, N_KNOTS, N_TEMPS,
  * PWL_TABLES, PWL_PARAMS ({t_lo, t_hi, recip, shift, value_frac} per axis)
  * and TEMPS.  Inputs live in RAM (.data) so nothing is constant-folded; the
- * code under test is a separate unit (csrc/sig_pwl.c).  Between the markers,
+ * code under test is a separate unit (csrc/tcomp/sig_pwl.c).  Between the markers,
  * each axis evaluates all N_TEMPS temperatures; the same loop around
  * bench_null measures the loop's own overhead. */
 #include <stdint.h>

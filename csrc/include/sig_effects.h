@@ -26,7 +26,7 @@
  * Rounding to a coarser unit is round-half-up: floor((v + 2^(n-1)) / 2^n).
  *
  * Float forms (_f) run the same recurrences in sig_real; they are the
- * forms pysig.effects fits with (tolerance, not bits).
+ * forms pysig.refine.effects fits with (tolerance, not bits).
  * State lives in caller-owned structs: _init checks and stores parameters
  * (state untouched on error), _reset forgets the history (the next sample
  * primes the state), _step advances one sample.  No malloc, no recursion.

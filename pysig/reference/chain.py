@@ -1,4 +1,4 @@
-"""The weighing chain in plain Python: the executable spec of csrc/sig_limit.c,
+"""The weighing chain in plain Python: the executable spec of csrc/weigh/sig_limit.c,
 sig_antipulse.c, sig_kalman1.c, sig_stable.c and sig_chain.c.
 
 Read next to the weighing paper: limit filter -> anti-pulse filter -> scalar Kalman
@@ -19,7 +19,7 @@ import numpy as np
 
 from ..errors import NonFiniteError, RangeError
 
-# ---- status codes (csrc/sig_types.h, sig_limit.h, sig_chain.h) -------------
+# ---- status codes (csrc/include/sig_types.h, sig_limit.h, sig_chain.h) -------------
 OK = 0
 WARN_CLAMPED = 1
 WARN_REJECTED = 4
@@ -191,7 +191,7 @@ def chain_fixed_params(p):
                 zero_rate_q7=_round_int32("zero_rate", p["zero_rate"] * 128))
 
 
-# ---- fixed-point arithmetic (csrc/sig_types.h, sig_antipulse.c, sig_kalman1.c) ----------
+# ---- fixed-point arithmetic (csrc/include/sig_types.h, sig_antipulse.c, sig_kalman1.c) ----------
 def sat32(v):
     return INT32_MIN if v < INT32_MIN else INT32_MAX if v > INT32_MAX else v
 
@@ -357,7 +357,7 @@ class AntiPulse:
 class Kalman1:
     """A = 1, H = 1: P- = P + Q; K = P-/(P- + R); x += K (z - x); P = R K.
     Fixed: runs on P/R with y = 1/(1 + K + q) by two Newton steps (see
-    csrc/sig_kalman1.h); samples are codes, x is Q24.7."""
+    csrc/include/sig_kalman1.h); samples are codes, x is Q24.7."""
 
     def __init__(self, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False, fixed=False):
         for name, v in (("Q", Q), ("R", R), ("x0", x0), ("P0", P0)):
@@ -506,7 +506,7 @@ class StabilityDetector:
 # ---- the chain ---------------------------------------------------------------
 class Chain:
     """limit -> anti-pulse -> Kalman -> stability, with the lock-out fix,
-    motion-aware settling, tare and zero tracking (csrc/sig_chain.c)."""
+    motion-aware settling, tare and zero tracking (csrc/weigh/sig_chain.c)."""
 
     def __init__(self, preset="recommended", fixed=False, units_per_kg=None, **overrides):
         self.params = chain_params(preset, units_per_kg, **overrides)

@@ -1,4 +1,4 @@
-"""Coefficient image for non-volatile memory (format: csrc/sig_image.h),
+"""Coefficient image for non-volatile memory (format: csrc/include/sig_image.h),
 written and read from Python.
 
 Generic part: `build_image(sections, sequence)` and `read_image(data)` work

@@ -173,7 +173,7 @@ def quantize_axis(coef, what="axis"):
                      f"(sum |c| = {sum(abs(c) for c in coef):.4g} LSB)")
 
 
-# ---- compact form (csrc/sig_tcomp16.h) ---------------------------------------
+# ---- compact form (csrc/include/sig_tcomp16.h) ---------------------------------------
 from fractions import Fraction  # noqa: E402  (exact re-expansion of the float polynomial)
 
 # int16 multiplicands and 16x16 products only: v = t - t_lo in 0.01 °C (exact,

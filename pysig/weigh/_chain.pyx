@@ -549,7 +549,7 @@ cdef class Chain:
         stable = np.empty(n, dtype=np.uint8)
         stat = np.empty(n if want else 1, dtype=np.int16)
         if n and not want:
-            # the batch entry points of csrc/sig_chain.c (same results as the step loop)
+            # the batch entry points of csrc/weigh/sig_chain.c (same results as the step loop)
             if self.fixed:
                 outq = np.empty(n, dtype=np.int32)
                 with nogil:

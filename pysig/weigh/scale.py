@@ -3,7 +3,7 @@
 - calibrate(): least-squares line counts -> mass from standard masses, with
   pysig.lsq.fit_poly (the same solver as the temperature fit), its linearity
   error and sensitivity.  The result applies itself in float and converts to
-  the fixed-point image that csrc/sig_scale.c applies on the MCU; it is
+  the fixed-point image that csrc/weigh/sig_scale.c applies on the MCU; it is
   stored as JSON (save / load_calibration) or a C header (c_header).
 - find_plateaus() / assign_nominal(): where a recording holds a load still,
   found from the data (no hand-picked indices), and which nominal level each
@@ -42,7 +42,7 @@ class Calibration:
         return ref_scale.apply_f(counts, self.offset_counts, self.gain)
 
     def fixed(self, out_frac=16):
-        """The integer image for csrc/sig_scale.c (see reference.scale.quantize)."""
+        """The integer image for csrc/weigh/sig_scale.c (see reference.scale.quantize)."""
         return ref_scale.quantize(self.offset_counts, self.gain, out_frac)
 
     def to_dict(self):

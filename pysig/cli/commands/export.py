@@ -2,7 +2,7 @@
 
 json: the model, checked and rewritten.  c: a C header with const arrays
 and the arguments of sig_tcomp_init_q / sig_tcomp_init_f.  image: the
-coefficient image for non-volatile memory (csrc/sig_image.h), with the given
+coefficient image for non-volatile memory (csrc/include/sig_image.h), with the given
 sequence number: the int32 offset section (sig_tcomp_load_image), or with
 --compact the compact section (sig_tcomp16_load_image: int16 multiplicands,
 pysig.tcomp.quant.quantize_compact), refused with a RangeError when the model
