@@ -5,6 +5,7 @@ under `python -X importtime`) and statically over every library source."""
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -70,3 +71,29 @@ def test_no_library_source_imports_the_reference():
     offenders = [f"{p.relative_to(ROOT)}:{p.read_text().count(chr(10), 0, m.start()) + 1}"
                  for p in library for m in IMPORT_OF_REFERENCE.finditer(p.read_text())]
     assert offenders == [], "library code imports pysig.reference: " + ", ".join(offenders)
+
+
+def _sources(folder, *patterns):
+    return [p for pattern in patterns for p in (ROOT / folder).rglob(pattern)
+            if "build" not in p.relative_to(ROOT).parts]
+
+
+def test_tests_and_benches_import_the_package_only():
+    """Tests never load bench scripts, benches never load test helpers, and
+    neither edits sys.path: both run against the installed package."""
+    this = Path(__file__).resolve()
+    tests = [p for p in _sources("tests", "*.py") if p.resolve() != this]
+    benches = _sources("bench", "*.py")
+    assert tests and benches
+    loads_bench = re.compile(r"^\s*(from\s+bench\b|import\s+bench\b)|spec_from_file_location",
+                             re.MULTILINE)
+    loads_tests = re.compile(r"^\s*(from\s+(conftest|tests)\b|import\s+(conftest|tests)\b)",
+                             re.MULTILINE)
+    edits_path = re.compile(r"\bsys\.path\b")
+    found = [f"{p.relative_to(ROOT)}: loads a bench script" for p in tests
+             if loads_bench.search(p.read_text())]
+    found += [f"{p.relative_to(ROOT)}: loads a test helper" for p in benches
+              if loads_tests.search(p.read_text())]
+    found += [f"{p.relative_to(ROOT)}: edits sys.path" for p in tests + benches
+              if edits_path.search(p.read_text())]
+    assert found == []
