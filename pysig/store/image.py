@@ -147,7 +147,23 @@ def find_section(data, typ, where="image"):
 
 
 def offset_poly_payload(model):
-    """Payload of SECTION_OFFSET_POLY for a TcompModel (fixed-point form)."""
+    """Payload of SECTION_OFFSET_POLY for a TcompModel (fixed-point form).
+
+    Parameters
+    ----------
+    model : TcompModel
+        A fitted model (pysig.tcomp.model).
+
+    Returns
+    -------
+    bytes
+        14 header bytes, then per axis q (u8) and order + 1 int32
+        coefficients, little-endian (layout in csrc/include/sig_image.h).
+
+    Examples
+    --------
+    See `model_image`, which wraps it into an image.
+    """
     f = model.fixed_fields()
     out = struct.pack("<BBBBhhhhh", len(model.axes), model.order, f["u_shift"], 0,
                       f["t_lo"], f["t_hi"], f["t_center"], f["t0"], f["u_mul"])
@@ -157,8 +173,33 @@ def offset_poly_payload(model):
 
 
 def parse_offset_poly(payload, where="image"):
-    """Fields of sig_tcomp_q from a SECTION_OFFSET_POLY payload (the checks
-    of sig_tcomp_load_image)."""
+    """Fields of sig_tcomp_q from a SECTION_OFFSET_POLY payload.
+
+    Parameters
+    ----------
+    payload : bytes
+        The section's payload (see `find_section`).
+    where : str, optional
+        Names the image in error messages.
+
+    Returns
+    -------
+    dict
+        n_axes, order, u_shift, t_lo, t_hi, t_center, t0, u_mul, q, coef.
+
+    Raises
+    ------
+    ModelFileError
+        The checks of sig_tcomp_load_image: length, axes, order, reserved
+        byte.
+
+    Examples
+    --------
+    >>> parse_offset_poly(bytes(14))
+    Traceback (most recent call last):
+        ...
+    pysig.errors.ModelFileError: image: offset section: 0 axes, order 0, reserved 0
+    """
     if len(payload) < OFFSET_POLY_FIXED_LEN:
         raise ModelFileError(f"{where}: offset section of {len(payload)} bytes is too short")
     n_axes, order, u_shift, reserved, t_lo, t_hi, t_center, t0, u_mul = \
@@ -208,8 +249,33 @@ def model_image(model, sequence=1, extra_sections=()):
 
 
 def compact_poly_payload(compact):
-    """Payload of SECTION_COMPACT_POLY for a pysig.tcomp.quant.CompactModel (or the
-    dict of its fields()); RangeError when sig_tcomp16_init would refuse it."""
+    """Payload of SECTION_COMPACT_POLY for the compact model form.
+
+    Parameters
+    ----------
+    compact : CompactModel or dict
+        A pysig.tcomp.quant.CompactModel, or the dict of its fields().
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    RangeError
+        Fields sig_tcomp16_init would refuse.
+
+    Examples
+    --------
+    >>> fields = {"top": [1605], "add": [[-25140702, -242974]], "t_lo": -19, "t_hi": 7012,
+    ...           "w_shift": 3}
+    >>> len(compact_poly_payload(fields))
+    18
+    >>> compact_poly_payload({**fields, "w_shift": 99})
+    Traceback (most recent call last):
+        ...
+    pysig.errors.RangeError: compact section: the fields are not a model sig_tcomp16_init accepts ...
+    """
     fields = compact.fields() if hasattr(compact, "fields") else compact
     if not ref16.valid(fields):
         raise RangeError("compact section: the fields are not a model sig_tcomp16_init accepts "
@@ -218,9 +284,33 @@ def compact_poly_payload(compact):
 
 
 def parse_compact_poly(data, where="image"):
-    """Fields of sig_tcomp16_init (top, add, t_lo, t_hi, w_shift) from the
-    compact section of image bytes `data`: the checks of
-    sig_tcomp16_load_image, as a ModelFileError naming what is wrong."""
+    """Fields of sig_tcomp16_init from the compact section of an image.
+
+    Parameters
+    ----------
+    data : bytes-like
+        The whole image.
+    where : str, optional
+        Names the image in error messages.
+
+    Returns
+    -------
+    dict
+        top, add, t_lo, t_hi, w_shift.
+
+    Raises
+    ------
+    ModelFileError
+        A corrupt image, no compact section, or one sig_tcomp16_load_image
+        refuses (the message says which checks).
+
+    Examples
+    --------
+    >>> fields = {"top": [1605], "add": [[-25140702, -242974]], "t_lo": -19, "t_hi": 7012,
+    ...           "w_shift": 3}
+    >>> parse_compact_poly(compact_image(fields, sequence=2)) == fields
+    True
+    """
     payload = find_section(data, SECTION_COMPACT_POLY, where)
     st, fields = ref.load_compact(data)
     if st != ref.SIG_OK:
@@ -231,5 +321,22 @@ def parse_compact_poly(data, where="image"):
 
 
 def compact_image(compact, sequence=1, extra_sections=()):
-    """The NVM image of a CompactModel: its compact section plus any others."""
+    """The NVM image of a compact model: its compact section plus any others
+    (`sequence`, `extra_sections` as for `build_image`).
+
+    Parameters
+    ----------
+    compact : CompactModel or dict
+        As for `compact_poly_payload`.
+    sequence : int, optional
+    extra_sections : iterable of (int, bytes), optional
+
+    Returns
+    -------
+    bytes
+
+    Examples
+    --------
+    See `parse_compact_poly`.
+    """
     return build_image([(SECTION_COMPACT_POLY, compact_poly_payload(compact)), *extra_sections], sequence)
