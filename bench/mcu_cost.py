@@ -22,15 +22,15 @@ from __future__ import annotations
 
 import argparse
 import json
-import struct
 from pathlib import Path
 
 import numpy as np
 
+from pysig.mcu import runner
+from pysig.mcu import tcomp16_vectors
+from pysig.mcu import vectors
+
 ROOT = Path(__file__).resolve().parent.parent
-from pysig.mcu import runner  # noqa: E402
-from pysig.mcu import tcomp16_vectors  # noqa: E402
-from pysig.mcu import vectors  # noqa: E402
 
 CSRC = runner.CSRC
 HARNESS = ROOT / "bench" / "mcu" / "harness"
@@ -419,7 +419,6 @@ def print_table1(t1, a):
     for order in _orders(a.orders):
         print(f"  order {order}: {tcomp_ops('fixed', order)} | {tcomp_ops('fixed16', order)} | "
               f"{tcomp_ops('fixed16_inline', order)} | {tcomp_ops('float', order)}")
-
 
 
 def table2(a):

@@ -21,10 +21,11 @@ import json
 import os
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
 
-from pysig.weigh import recording  # noqa: E402
-from pysig.io import atomic_output  # noqa: E402
+from pysig.weigh import recording
+from pysig.io import atomic_output
+
+HERE = Path(__file__).resolve().parent
 
 SHARED = HERE.parent.parent / "shared" / "data" / "hx711_steps_10hz" / "hx711_steps_10hz.csv"
 CONFIGS = recording.CONFIGS + ("recommended_fixed",)

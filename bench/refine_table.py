@@ -17,14 +17,14 @@ import time
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
+from pysig.refine import effects as fx
+from pysig.io import read_csv
+from pysig.refine.loop import plateau_reference, refine
+from pysig.sim.chamber import ChamberParams, simulate as sim_chamber
+from pysig.sim.loadcell import simulate as sim_loadcell
+from pysig.sim.refine_cases import chamber_run, fit_data
 
-from pysig.refine import effects as fx  # noqa: E402
-from pysig.io import read_csv  # noqa: E402
-from pysig.refine.loop import plateau_reference, refine  # noqa: E402
-from pysig.sim.chamber import ChamberParams, simulate as sim_chamber  # noqa: E402
-from pysig.sim.loadcell import simulate as sim_loadcell  # noqa: E402
-from pysig.sim.refine_cases import chamber_run, fit_data  # noqa: E402
+HERE = os.path.dirname(os.path.abspath(__file__))
 
 DATA = os.path.join(HERE, "..", "..", "shared", "data")
 LOADS = ((0.0, 0.0), (20.0, 5.0), (80.0, 10.0), (150.0, 20.0), (220.0, 10.0),

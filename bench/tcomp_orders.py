@@ -17,13 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-ROOT = Path(__file__).resolve().parent.parent
-
-from pysig.tcomp import _tcomp, fit, quant
+from pysig.tcomp import _tcomp, fit
 from pysig import lsq
-from pysig.sim import chamber as sim_chamber  # noqa: E402
-from pysig.errors import PysigError  # noqa: E402
-from pysig.io import read_csv  # noqa: E402
+from pysig.sim import chamber as sim_chamber
+from pysig.errors import PysigError
+from pysig.io import read_csv
+
+ROOT = Path(__file__).resolve().parent.parent
 
 DATA = ROOT.parent / "shared" / "data"
 ORDERS = range(1, 7)

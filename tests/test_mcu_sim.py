@@ -12,9 +12,8 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, require_tool
-
-from pysig.mcu import runner  # noqa: E402
-from pysig.mcu import vectors  # noqa: E402
+from pysig.mcu import runner
+from pysig.mcu import vectors
 
 HARNESS = ROOT / "bench" / "mcu" / "harness"
 TCOMP_SRC = runner.csrc_sources("sig_tcomp")     # + sig_poly, sig_image, sig_crc16

@@ -13,9 +13,8 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, require_tool
-
-from pysig.mcu import runner  # noqa: E402
-from pysig.mcu import tcomp16_vectors  # noqa: E402
+from pysig.mcu import runner
+from pysig.mcu import tcomp16_vectors
 
 HARNESS = ROOT / "bench" / "mcu" / "harness" / "tcomp16_harness.c"
 SRC = runner.csrc_sources("sig_tcomp16")

@@ -4,7 +4,6 @@ gain drift, cross-axis and nonlinearity are indistinguishable from offset
 there (refine reports them unavailable); those three are tested on a
 rotating field in test_refine.py.  The load-cell simulator carries creep and
 nonlinearity."""
-import numpy as np
 import pytest
 
 from pysig.refine import effects as fx
