@@ -22,9 +22,8 @@ import time
 
 import numpy as np
 
-
-from pysig.weigh import chain as C  # noqa: E402
-from pysig.reference import chain as R  # noqa: E402
+from pysig.weigh import chain as C
+from pysig.reference import chain as R
 
 
 def make_signal(n, seed=0):

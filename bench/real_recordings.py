@@ -1,4 +1,5 @@
-"""The weighing chain on a real HX711 step recording (issue 9).
+"""The weighing chain on a real HX711 step recording: behaviour on a
+sensor the presets were not tuned on.
 
     python bench/real_recordings.py --json real.json --plot DIR [--csv FILE]
 
@@ -21,10 +22,11 @@ import json
 import os
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
 
-from pysig.weigh import recording  # noqa: E402
-from pysig.io import atomic_output  # noqa: E402
+from pysig.weigh import recording
+from pysig.io import atomic_output
+
+HERE = Path(__file__).resolve().parent
 
 SHARED = HERE.parent.parent / "shared" / "data" / "hx711_steps_10hz" / "hx711_steps_10hz.csv"
 CONFIGS = recording.CONFIGS + ("recommended_fixed", "auto_fixed")

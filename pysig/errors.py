@@ -1,7 +1,7 @@
 """Named exceptions: each says what is wrong and where.
 
 Every error pysig raises for bad input derives from PysigError, and the CLI
-maps each class to its own exit status (see pysig/cli.py)."""
+maps each class to its own exit status (see pysig/cli/__init__.py)."""
 
 
 class PysigError(Exception):

@@ -33,7 +33,7 @@ class PolyFit:
 
     def raw_coefficients(self):
         """Coefficients in ascending powers of x itself (un-scaled); worse
-        conditioned, for users who want the paper's form."""
+        conditioned, for users who want the magnetometer paper's form."""
         p = np.polynomial.Polynomial(self.coef, domain=[self.center - self.scale, self.center + self.scale],
                                      window=[-1, 1])
         return p.convert().coef
@@ -66,7 +66,46 @@ def center_scale(x):
 
 
 def fit_poly(x, y, order, center=None, scale=None, weights=None, what="fit"):
-    """Least-squares polynomial of `order` (SVD solver, centred/scaled x)."""
+    """Least-squares polynomial of `order` (SVD solver, centred/scaled x).
+
+    Parameters
+    ----------
+    x, y : array_like
+        Abscissa and data, of one length, finite.
+    order : int
+        Polynomial order (>= 0).
+    center, scale : float, optional
+        u = (x - center) / scale; by default the middle and half-span of x.
+    weights : array_like, optional
+        Per-sample weights.
+    what : str, optional
+        Names the data in error messages.
+
+    Returns
+    -------
+    PolyFit
+        Coefficients in ascending powers of u, center, scale, residual RMS
+        and the condition number; calling it evaluates the polynomial.
+
+    Raises
+    ------
+    NonFiniteError
+        NaN or inf in x or y (the index named).
+    InsufficientDataError
+        Fewer distinct x values than order + 1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = np.array([0.0, 25.0, 50.0, 70.0])
+    >>> fit = fit_poly(x, 3.0 + 0.5 * x - 0.01 * x ** 2, 2)
+    >>> np.round(fit.raw_coefficients(), 6), round(float(fit(40.0)), 6)
+    (array([ 3.  ,  0.5 , -0.01]), 7.0)
+    >>> fit_poly([1.0, 1.0, 1.0], [1.0, 2.0, 3.0], 1)
+    Traceback (most recent call last):
+        ...
+    pysig.errors.InsufficientDataError: fit: order 1 needs at least 2 distinct x values, the data has 1
+    """
     x, y = _check(x, y, order, what)
     c0, s0 = center_scale(x)
     center = c0 if center is None else float(center)
@@ -84,7 +123,7 @@ def fit_poly(x, y, order, center=None, scale=None, weights=None, what="fit"):
 
 
 def fit_normal_equations(x, y, order, what="fit"):
-    """The paper's form: solve (C^T C) a = C^T y on the raw (unscaled) x.
+    """The magnetometer paper's form: solve (C^T C) a = C^T y on the raw (unscaled) x.
     Returns (coef ascending in x, condition number of C^T C)."""
     x, y = _check(x, y, order, what)
     design = np.vander(x, order + 1, increasing=True)

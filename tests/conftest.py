@@ -8,12 +8,24 @@ import os
 import shutil
 from pathlib import Path
 
+import numpy as np
 import pytest
+from hypothesis import strategies as st
 
 from pysig.mcu.runner import CSRC, CSRC_INCLUDE, c_source, c_sources  # noqa: F401  (for the tests)
 
 ROOT = Path(__file__).resolve().parent.parent
 SHARED_DATA = Path(os.environ.get("PYSIG_SHARED_DATA", ROOT.parent / "shared" / "data"))
+
+# hypothesis strategies of the C core's integer types
+I16 = st.integers(-32768, 32767)
+I32 = st.integers(-(1 << 31), (1 << 31) - 1)
+
+
+def draw_int16_rows(data, n_rows, n_axes):
+    """An (n_rows, n_axes) int16 array of readings drawn with hypothesis' data()."""
+    return np.array([[data.draw(I16) for _ in range(n_axes)] for _ in range(n_rows)],
+                    dtype=np.int16)
 
 
 def require_tool(*names):

@@ -1,4 +1,4 @@
-"""Bad-input matrix (issue 7): every entry point that reads user data, fed
+"""Bad-input matrix: every entry point that reads user data, fed
 each kind of bad input, must fail with a named error (pysig/errors.py) whose
 one-line message names the problem and where it is, exit with that error's
 own status, and leave no partial output (an existing output file is left as
@@ -426,7 +426,7 @@ def test_cli_subprocess_exit_status(case_id, build, cls, words, tmp_path, model_
 
 
 def test_filter_float_nan_is_an_impulse_not_an_error(tmp_path):
-    """Issue 2: in the float chain a NaN or inf sample never enters the state:
+    """Non-finite samples are impulses: in the float chain a NaN or inf sample never enters the state:
     the limit filter replaces it (status bit 4) and the run succeeds."""
     src = tmp_path / "in.csv"
     src.write_text(WEIGH.replace("\n1.0,1001\n", "\n1.0,nan\n").replace("\n2.0,1002\n", "\n2.0,inf\n"))

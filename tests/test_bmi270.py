@@ -1,4 +1,4 @@
-"""Issue 9, the two-temperature IMU recording (../shared/data/bmi270_two_temps):
+"""A real recording the defaults were not tuned on, the two-temperature IMU recording (../shared/data/bmi270_two_temps):
 an order-1 temperature model of the gyro bias works and moves both plateaus'
 bias to the same value; order 2 or more is refused, naming how many distinct
 temperatures the data has (2) and how many the order needs."""

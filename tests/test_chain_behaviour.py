@@ -38,14 +38,14 @@ def run(x, fixed, **kw):
 def test_paper_chain_locks_out_and_the_fix_follows(fixed):
     x = step_signal(0.0, 10.0, 0.05)                    # a 10 kg step, A0 = 2 kg
     out, _, _ = run(x, fixed, preset="paper")
-    assert np.all(out[250:] < 2.0), "the paper's chain should refuse the new level"
+    assert np.all(out[250:] < 2.0), "the weighing paper's chain should refuse the new level"
     scale = COUNTS_PER_KG if fixed else 1.0
     c = Chain(preset="paper", lockout_n=3, fixed=fixed, units_per_kg=scale)
     out, _, status = c.process(x * scale, flags=True)
     out /= scale
     assert (status[200:204] & LIMIT_RESEEDED).any()
     assert c.Dc / scale == pytest.approx(10.0, abs=0.05)          # the limit stage follows
-    # ... but the paper's Kalman gain (~1/n, then 0.0014) only creeps after it
+    # ... but the weighing paper's Kalman gain (~1/n, then 0.0014) only creeps after it
     assert np.all(np.diff(out[260:]) > 0) and out[-1] < 9.0
     out, _, _ = run(x, fixed, preset="adaptive")                   # + motion mode
     assert abs(np.mean(out[300:]) - 10.0) < 0.01

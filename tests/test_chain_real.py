@@ -77,7 +77,7 @@ def test_paper_parameters_lock_out_on_the_first_step(rec, channel):
     x = rec[channel]
     out, _ = Chain(preset="paper", units_per_kg=COUNTS_PER_LB / 0.45359237).process(x)
     base = np.median(x[:100])
-    # the load goes up to 40 lb; the paper's chain never gets near even 20 lb
+    # the load goes up to 40 lb; the weighing paper's chain never gets near even 20 lb
     assert np.max(out) < base + 15 * COUNTS_PER_LB
 
 

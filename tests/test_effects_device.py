@@ -1,4 +1,4 @@
-"""csrc/sig_effects.c against its Python reference: fixed point bit for bit
+"""csrc/refine/sig_effects.c against its Python reference: fixed point bit for bit
 (hypothesis-generated inputs, state carried across calls split at random
 points), float forms within 1e-12 relative of the reference and of the
 float model refine fits with (pysig.refine.effects)."""
@@ -6,14 +6,33 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
+from conftest import I16, I32
 from pysig.refine import _effects as C
 from pysig.refine import effects as fx
 from pysig.errors import NonFiniteError, RangeError
 from pysig.reference import effects as R
 
-I16 = st.integers(-32768, 32767)
-I32 = st.integers(-(1 << 31), (1 << 31) - 1)
 SETTINGS = settings(max_examples=150, deadline=None)
+
+
+def assert_columns_equal_reference(c_result, ref_steps):
+    """The C call's output arrays (its trailing state left out) equal the
+    reference's per-step tuples, column by column; returns the first."""
+    columns = c_result[:-1]
+    for k, column in enumerate(columns):
+        assert column.tolist() == [r[k] for r in ref_steps], f"column {k}"
+    return columns[0]
+
+
+def assert_split_carries_state(run, xs, cut):
+    """run(xs[:cut]) then run(xs[cut:], its state) gives the one-call
+    outputs (every column but the state)."""
+    whole = run(xs)
+    cut = min(cut, len(xs))
+    first = run(xs[:cut])
+    second = run(xs[cut:], first[-1])
+    for k in range(len(whole) - 1):
+        assert first[k].tolist() + second[k].tolist() == whole[k].tolist(), f"column {k}"
 
 
 def _ref_lag(xs, alpha_q16, frac):
@@ -40,16 +59,9 @@ def test_lag_q_bit_exact_and_split(xs, alpha, frac, cut):
        start=st.sampled_from([-1, 0, 1]), cut=st.integers(0, 60))
 def test_hysteresis_q_bit_exact_and_split(ts, width, k, start, cut):
     h = R.HystQ(width, k, start)
-    ref = [h.step(int(t)) for t in ts]
-    br, c, s, _ = C.hyst_q(ts, width, k, start)
-    assert br.tolist() == [r[0] for r in ref]
-    assert c.tolist() == [r[1] for r in ref]
-    assert s.tolist() == [r[2] for r in ref]
+    br = assert_columns_equal_reference(C.hyst_q(ts, width, k, start), [h.step(int(t)) for t in ts])
     assert np.all(np.abs(br) <= width)
-    cut = min(cut, len(ts))
-    b1, c1, _, state = C.hyst_q(ts[:cut], width, k, start)
-    b2, c2, _, _ = C.hyst_q(ts[cut:], width, k, start, state)
-    assert c1.tolist() + c2.tolist() == c.tolist()
+    assert_split_carries_state(lambda xs, *state: C.hyst_q(xs, width, k, start, *state), ts, cut)
 
 
 @SETTINGS
@@ -57,15 +69,8 @@ def test_hysteresis_q_bit_exact_and_split(ts, width, k, start, cut):
        frac=st.integers(0, 16), k=I32, cut=st.integers(0, 60))
 def test_creep_q_bit_exact_and_split(xs, alpha, frac, k, cut):
     cr = R.CreepQ(alpha, frac, k)
-    ref = [cr.step(int(x)) for x in xs]
-    c, y, s, _ = C.creep_q(xs, alpha, frac, k)
-    assert c.tolist() == [r[0] for r in ref]
-    assert y.tolist() == [r[1] for r in ref]
-    assert s.tolist() == [r[2] for r in ref]
-    cut = min(cut, len(xs))
-    c1, _, _, state = C.creep_q(xs[:cut], alpha, frac, k)
-    c2, _, _, _ = C.creep_q(xs[cut:], alpha, frac, k, state)
-    assert c1.tolist() + c2.tolist() == c.tolist()
+    assert_columns_equal_reference(C.creep_q(xs, alpha, frac, k), [cr.step(int(x)) for x in xs])
+    assert_split_carries_state(lambda ys, *state: C.creep_q(ys, alpha, frac, k, *state), xs, cut)
 
 
 @SETTINGS

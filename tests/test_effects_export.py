@@ -6,7 +6,6 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from pysig.refine import device as ed
-from pysig.refine import _effects as C
 from pysig.errors import ModelFileError
 from pysig.tcomp.quant import choose_scaling, quantize_axis
 from pysig.refine.loop import refine

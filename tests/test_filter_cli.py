@@ -12,6 +12,15 @@ from pysig.weigh.chain import Chain
 HX711 = "hx711_steps_10hz/hx711_steps_10hz.csv"
 
 
+def filter_csv(tmp_path, content, *extra):
+    """Write `content` as in.csv, run `pysig filter` on its counts column:
+    (exit status, in.csv, the output path)."""
+    src = tmp_path / "in.csv"
+    src.write_text(content)
+    out = tmp_path / "out.csv"
+    return cli.main(["filter", str(src), "--column", "counts", "-o", str(out), *extra]), src, out
+
+
 def read_out(path):
     with open(path, newline="") as fh:
         rows = list(csv.reader(fh))
@@ -46,10 +55,8 @@ def test_filter_writes_input_columns_plus_filtered_and_stable(tmp_path, extra, k
 
 
 def test_filter_status_column_and_nan_as_impulse(tmp_path):
-    src = tmp_path / "in.csv"
-    src.write_text("counts\n100\n101\nnan\n99\n1e7\n100\n")
-    out = tmp_path / "out.csv"
-    assert cli.main(["filter", str(src), "--column", "counts", "-o", str(out), "--status"]) == 0
+    status, src, out = filter_csv(tmp_path, "counts\n100\n101\nnan\n99\n1e7\n100\n", "--status")
+    assert status == 0
     _, cols = read_out(out)
     assert np.all(np.isfinite(cols["filtered"]))
     assert list(cols["status"].astype(int) & 4) == [0, 0, 4, 0, 4, 0]
@@ -63,10 +70,8 @@ def test_filter_status_column_and_nan_as_impulse(tmp_path):
     ("t,counts\n0,1\n1,\n", "row 3, column 'counts'"),
 ])
 def test_filter_bad_input_one_line_exit_2_no_output(tmp_path, capsys, content, needle):
-    src = tmp_path / "in.csv"
-    src.write_text(content)
-    out = tmp_path / "out.csv"
-    assert cli.main(["filter", str(src), "--column", "counts", "-o", str(out)]) == 2
+    status, src, out = filter_csv(tmp_path, content)
+    assert status == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and str(src) in err and needle in err
     assert not out.exists()
@@ -74,28 +79,22 @@ def test_filter_bad_input_one_line_exit_2_no_output(tmp_path, capsys, content, n
 
 
 def test_filter_fixed_refuses_nan_with_row(tmp_path, capsys):
-    src = tmp_path / "in.csv"
-    src.write_text("counts\n1\nnan\n")
-    out = tmp_path / "out.csv"
-    assert cli.main(["filter", str(src), "--column", "counts", "-o", str(out), "--fixed"]) == 3
+    status, src, out = filter_csv(tmp_path, "counts\n1\nnan\n", "--fixed")
+    assert status == 3
     assert "row 3, column 'counts'" in capsys.readouterr().err
     assert not out.exists()
 
 
 def test_filter_bad_parameter_is_named(tmp_path, capsys):
-    src = tmp_path / "in.csv"
-    src.write_text("counts\n1\n2\n")
-    out = tmp_path / "out.csv"
-    assert cli.main(["filter", str(src), "--column", "counts", "-o", str(out), "--window", "33"]) == 7
+    status, src, out = filter_csv(tmp_path, "counts\n1\n2\n", "--window", "33")
+    assert status == 7
     assert "window=33" in capsys.readouterr().err
     assert not out.exists()
 
 
 def test_filter_fixed_refuses_codes_beyond_25_bits(tmp_path, capsys):
-    src = tmp_path / "in.csv"
-    src.write_text("counts\n1\n2\n40000000\n")
-    out = tmp_path / "out.csv"
-    assert cli.main(["filter", str(src), "--column", "counts", "-o", str(out), "--fixed"]) == 5
+    status, src, out = filter_csv(tmp_path, "counts\n1\n2\n40000000\n", "--fixed")
+    assert status == 5
     err = capsys.readouterr().err
     assert "row 4, column 'counts'" in err and "40000000" in err
     assert not out.exists()
@@ -104,9 +103,7 @@ def test_filter_fixed_refuses_codes_beyond_25_bits(tmp_path, capsys):
 
 
 def test_filter_parameter_overflowing_in_signal_units_is_named(tmp_path, capsys):
-    src = tmp_path / "in.csv"
-    src.write_text("counts\n1\n2\n")
-    out = tmp_path / "out.csv"
-    assert cli.main(["filter", str(src), "--column", "counts", "-o", str(out), "--A0", "1e305"]) == 7
+    status, src, out = filter_csv(tmp_path, "counts\n1\n2\n", "--A0", "1e305")
+    assert status == 7
     assert "A0=1e+305" in capsys.readouterr().err
     assert not out.exists()

@@ -1,7 +1,6 @@
 """Training (pysig/fit.py, pysig/model.py) and the CLI round trip
 fit -> export -> C evaluation (image parsed in C) -> same numbers as Python."""
 import json
-import shutil
 import subprocess
 
 import numpy as np

@@ -1,9 +1,9 @@
-"""Fuzz every C entry point that takes outside data (issue 7).
+"""Fuzz every C entry point that takes outside data.
 
 Each fuzz/fuzz_<target>.c is a libFuzzer harness.  It is built with clang
 and AddressSanitizer + UndefinedBehaviorSanitizer (no recovery: the first
 report aborts) against all of csrc/*.c in the firmware's float form, then
-run for PYSIG_FUZZ_SECONDS (default 60 s when CI is set, as issue 7 asks,
+run for PYSIG_FUZZ_SECONDS (default 60 s when CI is set, the time each harness must survive,
 10 s otherwise), starting from its seed corpus fuzz/corpus/<target>/.  Each
 harness also runs for a sixth of that time (the small, fully covered targets
 in FUZZ_SHARE a fraction of it) in a

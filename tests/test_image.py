@@ -1,4 +1,4 @@
-"""Coefficient image (csrc/sig_image.c, sig_crc16.c; pysig/image.py): C ==
+"""Coefficient image (csrc/store/sig_image.c, sig_crc16.c; pysig/store/image.py): C ==
 Python spec on every byte string, generic sections, and the power-cut test
 of the A/B slot storage: cut after every byte and after every programmed
 bit, flip every bit, and the C loader always returns exactly the old or the

@@ -27,7 +27,7 @@ def test_raw_coefficients_match_unscaled_form():
 
 
 def test_normal_equations_condition_much_worse_at_high_order():
-    """The paper's C^T C form on raw temperatures squares the condition number
+    """The magnetometer paper's C^T C form on raw temperatures squares the condition number
     of an already ill-conditioned Vandermonde matrix; the scaled fit does not."""
     x = np.linspace(0, 70, 50)
     y = np.sin(x / 20)

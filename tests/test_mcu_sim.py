@@ -12,9 +12,8 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, require_tool
-
-from pysig.mcu import runner  # noqa: E402
-from pysig.mcu import vectors  # noqa: E402
+from pysig.mcu import runner
+from pysig.mcu import vectors
 
 HARNESS = ROOT / "bench" / "mcu" / "harness"
 TCOMP_SRC = runner.csrc_sources("sig_tcomp")     # + sig_poly, sig_image, sig_crc16
@@ -35,7 +34,7 @@ def _tools(target):
             require_tool(t)
 
 
-# sdcc --model-large alone links neither csrc/sig_tcomp.c + sig_poly.c nor the
+# sdcc --model-large alone links neither csrc/tcomp/sig_tcomp.c + sig_poly.c nor the
 # chain: sdcc keeps the spill temporaries of every non-reentrant function in
 # the 8051's 128-byte direct RAM (chain modules: ~390 bytes).  With
 # --stack-auto they live on the stack in internal RAM instead, and the runner

@@ -1,7 +1,7 @@
-"""Firmware == Python for the compact compensation (csrc/sig_tcomp16.c): the
+"""Firmware == Python for the compact compensation (csrc/tcomp/sig_tcomp16.c): the
 very csrc/ code, built for the MSP430F5510 (clang: multiplier helpers on
-mspdebug's simulated 16x16 MPY; the inline build whose csrc/sig_port.h hooks
-are bench/mcu/msp430/sig_port_msp430.h, MAC/MACS on that multiplier; the
+mspdebug's simulated 16x16 MPY; the inline build whose csrc/include/sig_port.h hooks
+are csrc/port/msp430/sig_port_msp430.h, MAC/MACS on that multiplier; the
 no-multiplier build) and for the 8051 (sdcc --model-large), runs 50
 temperature/reading pairs in the simulators; the
 outputs and statuses read back must equal the host C (Cython) and the Python
@@ -13,9 +13,8 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, require_tool
-
-from pysig.mcu import runner  # noqa: E402
-from pysig.mcu import tcomp16_vectors  # noqa: E402
+from pysig.mcu import runner
+from pysig.mcu import tcomp16_vectors
 
 HARNESS = ROOT / "bench" / "mcu" / "harness" / "tcomp16_harness.c"
 SRC = runner.csrc_sources("sig_tcomp16")

@@ -9,9 +9,8 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, require_tool
-
-from pysig.mcu import runner  # noqa: E402
-from pysig.mcu import vectors  # noqa: E402
+from pysig.mcu import runner
+from pysig.mcu import vectors
 
 SELF = ROOT / "bench" / "mcu" / "selftest"
 COEF = [210371, -29930, 806]          # harness.c: 3.21, -0.4567, 0.0123 in Q16.16

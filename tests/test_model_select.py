@@ -1,5 +1,5 @@
-"""Model selection (issue 10): curve tidying and its errors, blocked
-cross-validation over temperature, the paper's four-point calibration, and
+"""Model selection: curve tidying and its errors, blocked
+cross-validation over temperature, the magnetometer paper's four-point calibration, and
 the real MPU-6000 curve."""
 import warnings
 
@@ -138,7 +138,7 @@ def test_pwl_cv_bridges_held_out_knots():
     assert cv < 1e-9
 
 
-# ---- the paper's four points -----------------------------------------------------
+# ---- the magnetometer paper's four points -----------------------------------------------------
 
 def test_paper_points_nearest_when_the_data_covers_them():
     temp = np.linspace(-10.0, 80.0, 91)

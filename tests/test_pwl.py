@@ -1,4 +1,4 @@
-"""Piecewise-linear table (issue 10): C sig_pwl_eval_q16 == reference bit for
+"""Piecewise-linear table: C sig_pwl_eval_q16 == reference bit for
 bit, float form within tolerance, clamping flagged, init checks identical,
 and the least-squares fit with its bad-input errors."""
 import numpy as np

@@ -1,4 +1,5 @@
-"""The weighing chain on the real HX711 step recording (issue 9): behaviour
+"""The weighing chain on the real HX711 step recording (a sensor the
+defaults were not tuned on): behaviour
 with margins, not exact numbers.  Runs on the copy bundled in pysig/data
 (the same bytes as ../shared/data, checked when that is present)."""
 import numpy as np
@@ -64,7 +65,7 @@ def test_paper_chain_locks_out_recommended_never_does(loaded, ch):
     rows = loaded[ch]["rows"]
     assert rows["recommended"]["plateaus_missed"] == 0
     assert rows["recommended_fixed"]["plateaus_missed"] == 0
-    # A0 = 2 kg < a 10-lb step: the paper's chain refuses every loaded level
+    # A0 = 2 kg < a 10-lb step: the weighing paper's chain refuses every loaded level
     assert rows["paper_chain"]["plateaus_missed"] >= 6
     assert rows["paper_chain"]["plateau_err_lb_max"] > 20
 

@@ -1,4 +1,4 @@
-"""csrc/sig_scale.c (through pysig.weigh._scale) against pysig.reference.scale:
+"""csrc/weigh/sig_scale.c (through pysig.weigh._scale) against pysig.reference.scale:
 bit for bit on the fixed path, exactly on the host float path (double,
 same operations), and the fixed image within its quantisation bound of the
 float calibration."""

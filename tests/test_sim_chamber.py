@@ -1,5 +1,5 @@
 """The QMC5883L-like chamber simulator: seeded and reproducible, int16
-readings at 12000 LSB/G, the paper's chamber steps, and each switchable
+readings at 12000 LSB/G, the magnetometer paper's chamber steps, and each switchable
 effect off by default and doing what its parameter says when on."""
 import numpy as np
 import pytest

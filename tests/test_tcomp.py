@@ -1,4 +1,4 @@
-"""Temperature compensation in C (csrc/sig_poly.c, sig_tcomp.c) against the
+"""Temperature compensation in C (csrc/tcomp/sig_poly.c, sig_tcomp.c) against the
 pure-Python spec (pysig/reference/tcomp.py): bit for bit on the fixed-point
 path for any int16 temperature and reading, within a stated tolerance on the
 float path; clamping is flagged, never silent; bad parameters are refused."""
@@ -8,12 +8,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
+from conftest import I16, I32, draw_int16_rows
 from pysig.tcomp import _tcomp, quant
 from pysig.errors import NonFiniteError, RangeError
 from pysig.reference import tcomp as ref
-
-I16 = st.integers(-32768, 32767)
-I32 = st.integers(-(1 << 31), (1 << 31) - 1)
 
 
 @settings(max_examples=300, deadline=None)
@@ -72,7 +70,7 @@ def fixed_models(draw, small=False):
 def test_apply_q_bit_exact(model, temps, data):
     c = _tcomp.TcompQ.from_fields(**model)
     n = len(model["coef"])
-    x = np.array([[data.draw(I16) for _ in range(n)] for _ in temps], dtype=np.int16)
+    x = draw_int16_rows(data, len(temps), n)
     out, status = c.apply(np.array(temps), x)
     for i, t in enumerate(temps):
         want, want_st = ref.apply_q(model, t, [int(v) for v in x[i]])
@@ -87,7 +85,7 @@ def test_apply_q_bit_exact(model, temps, data):
 def test_apply_q_fast_path_bit_exact(model, temps, data):
     c = _tcomp.TcompQ.from_fields(**model)
     assert c.no_overflow
-    x = np.array([[data.draw(I16) for _ in model["coef"]] for _ in temps], dtype=np.int16)
+    x = draw_int16_rows(data, len(temps), len(model["coef"]))
     out, status = c.apply(np.array(temps), x)
     for i, t in enumerate(temps):
         assert (list(out[i]), status[i]) == ref.apply_q(model, t, [int(v) for v in x[i]])

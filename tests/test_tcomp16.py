@@ -1,4 +1,4 @@
-"""Compact temperature compensation (csrc/sig_tcomp16.c) against its
+"""Compact temperature compensation (csrc/tcomp/sig_tcomp16.c) against its
 pure-Python spec (pysig/reference/tcomp16.py), bit for bit; the quantiser
 (pysig.tcomp.quant.quantize_compact): its stated error is exact and honest, the
 outputs stay within 0.5 LSB + that error of the float64 model on the chamber
@@ -7,13 +7,12 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
+from conftest import I16, I32, draw_int16_rows
 from pysig.tcomp import _tcomp16, fit, quant
 from pysig.sim import chamber as sim_chamber
 from pysig.errors import RangeError
 from pysig.reference import tcomp16 as ref
 
-I16 = st.integers(-32768, 32767)
-I32 = st.integers(-(1 << 31), (1 << 31) - 1)
 LEVEL_MAX = 32767 * 65536          # |h * x + add| <= this keeps the next h within int16
 
 
@@ -49,12 +48,10 @@ def compact_models(draw):
 @settings(max_examples=300, deadline=None)
 @given(model=compact_models(), temps=st.lists(I16, min_size=1, max_size=8), data=st.data())
 def test_apply_q_bit_exact(model, temps, data):
-    c = _tcomp16.Tcomp16Q.from_fields(**model)
     n = len(model["top"])
-    x = np.array([[data.draw(I16) for _ in range(n)] for _ in temps], dtype=np.int16)
     t = temps + [model["t_lo"], model["t_hi"]]                 # the range ends, where |h| peaks
-    x = np.vstack([x, np.full((2, n), 32767, np.int16)])
-    out, status = c.apply(np.array(t), x)
+    x = np.vstack([draw_int16_rows(data, len(temps), n), np.full((2, n), 32767, np.int16)])
+    out, status = _tcomp16.Tcomp16Q.from_fields(**model).apply(np.array(t), x)
     for i, ti in enumerate(t):
         assert (list(out[i]), status[i]) == ref.apply_q(model, ti, [int(v) for v in x[i]])
 
@@ -136,7 +133,7 @@ def test_chamber_model_within_half_lsb_plus_stated_error(order):
 
 
 def test_compact_error_is_small_next_to_the_int32_form():
-    """Order 2 (the paper's choice) on the chamber data: measured figures."""
+    """Order 2 (the magnetometer paper's choice) on the chamber data: measured figures."""
     m = fit.fit_tcomp(CHAMBER["temp"], {k: CHAMBER[k] for k in "xyz"}, order=2)
     cm = quant.quantize_compact(m)
     assert max(cm.error_lsb) < 0.15             # 0.5 * 2 levels * 7038 / 65536 = 0.107 + rounding

@@ -1,6 +1,6 @@
 """The compact model in the coefficient image (section 8, SIG_SECTION_COMPACT_POLY):
-writer pysig/image.py, spec pysig/reference/image.py (load_compact), C loader
-sig_tcomp16_load_image (csrc/sig_tcomp16_image.c).  Round trip model ->
+writer pysig/store/image.py, spec pysig/reference/image.py (load_compact), C loader
+sig_tcomp16_load_image (csrc/store/sig_tcomp16_image.c).  Round trip model ->
 image -> C loader -> apply equals the Python spec bit for bit; every bit flip
 and every truncation is refused with the C model untouched; on mutated
 payloads the C loader and the spec agree (status and fields) and accept
@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
+from conftest import I16, I32, draw_int16_rows
 from pysig.tcomp import _tcomp16, fit, quant
 from pysig.store import image
 from pysig.sim import chamber as sim_chamber
@@ -21,9 +22,6 @@ from pysig.io import read_csv
 from pysig.reference import image as ref
 from pysig.reference import tcomp16 as ref16
 from test_tcomp16 import compact_models
-
-I16 = st.integers(-32768, 32767)
-I32 = st.integers(-(1 << 31), (1 << 31) - 1)
 
 
 @pytest.fixture(scope="module")
@@ -160,7 +158,7 @@ def test_c_loader_equals_reference_reader_on_mutated_payloads(case, temps, data)
         return
     assert c.fields() == want_fields == image.parse_compact_poly(img)
     n = len(want_fields["top"])
-    x = np.array([[data.draw(I16) for _ in range(n)] for _ in temps], dtype=np.int16)
+    x = draw_int16_rows(data, len(temps), n)
     got, status = c.apply(np.array(temps), x)
     for i, t in enumerate(temps):
         assert (list(got[i]), status[i]) == ref16.apply_q(want_fields, t, [int(v) for v in x[i]])

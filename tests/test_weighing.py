@@ -13,7 +13,7 @@ MASSES = np.arange(10.0, 50.1, 5.0)
 
 
 def mean_readings(p, masses, n=5, seed=0):
-    """The paper's calibration: the mean of n readings at each standard mass."""
+    """The weighing paper's calibration: the mean of n readings at each standard mass."""
     out = []
     for i, m in enumerate(masses):
         run = simulate(p, seed=seed + i, load_steps=((0.0, float(m)),), duration_s=n / p.rate_hz)

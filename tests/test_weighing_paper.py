@@ -1,26 +1,17 @@
-"""bench/weighing_accuracy.py reproduces the paper's direction and factors on
-the simulator, and the motion-aware mode settles fast without losing
-accuracy (issue 4).  Margins, not exact numbers; 20 seeds as the bench."""
-import importlib.util
+"""The weighing-accuracy experiment (pysig.sim.weighing_accuracy, printed by
+bench/weighing_accuracy.py) reproduces the weighing paper's direction and
+factors on the simulator, and the motion-aware mode settles fast without
+losing accuracy.  Margins, not exact numbers; 20 seeds as the bench."""
 import json
-from pathlib import Path
 
 import pytest
 
-BENCH = Path(__file__).resolve().parent.parent / "bench" / "weighing_accuracy.py"
+from pysig.sim import weighing_accuracy
 
 
 @pytest.fixture(scope="module")
-def bench():
-    spec = importlib.util.spec_from_file_location("weighing_accuracy", BENCH)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-@pytest.fixture(scope="module")
-def figures(bench):
-    return bench.run(20)
+def figures():
+    return weighing_accuracy.run(20)
 
 
 def test_calibration_recovers_the_cell(figures):
@@ -35,18 +26,18 @@ def test_noise_setting_matches_the_paper_raw_error(figures):
 
 def test_paper_direction_and_factors(figures):
     f = figures
-    # 30 kg: the chain improves on raw readings by more than the paper's 20x
+    # 30 kg: the chain improves on raw readings by more than the weighing paper's 20x
     assert f["chain_max_err_pct_30kg"] < f["raw_max_err_pct_30kg"] / 20
     assert f["chain_max_err_pct_30kg"] <= 0.3
-    # over the masses: the plain Kalman filter errs about as the paper's (1.8 %),
-    # the chain stays under the paper's 0.4 % (median over seeds), >= 4x better
+    # over the masses: the plain Kalman filter errs about as the weighing paper's (1.8 %),
+    # the chain stays under the weighing paper's 0.4 % (median over seeds), >= 4x better
     assert 1.0 < f["kalman_max_err_pct_all"] < 3.0
     assert f["chain_max_err_pct_all"] < 0.4
     assert f["kalman_max_err_pct_all"] / f["chain_max_err_pct_all"] > 4.0
 
 
 def test_paper_chain_locks_out_and_lags(figures):
-    # a 20-kg step is 10x A0: the paper's chain never follows it
+    # a 20-kg step is 10x A0: the weighing paper's chain never follows it
     assert figures["paper_settle_s"] is None
     assert figures["paper_settle_never"] == figures["seeds"]
     # with only the lock-out fix, the slow Kalman gain takes minutes
@@ -57,7 +48,7 @@ def test_adaptive_settles_fast_and_stays_accurate(figures):
     assert figures["adaptive_settle_s"] <= 2.0
     assert figures["adaptive_settle_s_worst"] <= 2.0
     assert figures["adaptive_max_err_pct_all"] <= 1.1 * figures["chain_max_err_pct_all"]
-    # and no start-up lock-out: the worst run stays under 1 % (the paper's chain
+    # and no start-up lock-out: the worst run stays under 1 % (the weighing paper's chain
     # seeded on an impulse errs by up to ~95 % in the same runs)
     assert figures["adaptive_max_err_pct_all_worst"] < 1.0
     assert figures["chain_max_err_pct_all_worst"] > 10.0
@@ -66,7 +57,7 @@ def test_adaptive_settles_fast_and_stays_accurate(figures):
 def test_shipped_presets_given_the_sensors_noise(figures):
     """recommended (the default) and adaptive as shipped, given the sensor's R:
     their A0 / motion band follow from it, and they are as accurate as the
-    paper's chain over the calibrated 10-50 kg (and within the paper's 0.4 %)
+    weighing paper's chain over the calibrated 10-50 kg (and within the weighing paper's 0.4 %)
     while settling within 2 s after a load change."""
     for n in ("recommended", "adaptive_preset"):
         assert figures[f"{n}_max_err_pct_10to50kg"] <= 0.4, n

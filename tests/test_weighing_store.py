@@ -1,5 +1,5 @@
 """A scale calibration stored as JSON and as a C header: the header compiled
-with csrc/sig_scale.c gives the Python reference's Q16.16 masses bit for bit."""
+with csrc/weigh/sig_scale.c gives the Python reference's Q16.16 masses bit for bit."""
 import json
 import subprocess
 

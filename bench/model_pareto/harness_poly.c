@@ -11,6 +11,7 @@
 #include "../mcu/harness/bench_marks.h"   /* NOINLINE and the marker functions */
 #include "sig_tcomp.h"
 #include "pareto_case.h"
+#include "pareto_marks.h"
 
 int32_t coef[N_AXES * (ORDER + 1)] = POLY_COEF;
 uint8_t qs[N_AXES] = POLY_Q;
@@ -49,16 +50,6 @@ int main(void)
     init_status = sig_tcomp_init_q(&model, N_AXES, ORDER, coef, qs, POLY_T_LO, POLY_T_HI,
                                    POLY_T_CENTER, POLY_T_CENTER, POLY_U_MUL, POLY_U_SHIFT);
     (void)sig_tcomp_delta_q(&model, 0, temps[N_TEMPS / 2], &first_out);
-    bench_start();
-    run_axis(0);
-    bench_axis1();
-    run_axis(1);
-    bench_axis2();
-    run_axis(2);
-    bench_stop();
-    bench_null_start();
-    run_null(0);
-    bench_null_stop();
-    bench_done();
+    measure_three_axes();
     return 0;
 }

@@ -3,13 +3,14 @@
  * pareto_case.h (generated per case) defines N_AXES, N_KNOTS, N_TEMPS,
  * PWL_TABLES, PWL_PARAMS ({t_lo, t_hi, recip, shift, value_frac} per axis)
  * and TEMPS.  Inputs live in RAM (.data) so nothing is constant-folded; the
- * code under test is a separate unit (csrc/sig_pwl.c).  Between the markers,
+ * code under test is a separate unit (csrc/tcomp/sig_pwl.c).  Between the markers,
  * each axis evaluates all N_TEMPS temperatures; the same loop around
  * bench_null measures the loop's own overhead. */
 #include <stdint.h>
 #include "../mcu/harness/bench_marks.h"   /* NOINLINE and the marker functions */
 #include "sig_pwl.h"
 #include "pareto_case.h"
+#include "pareto_marks.h"
 
 int16_t tables[N_AXES][N_KNOTS] = PWL_TABLES;
 int16_t ranges[N_AXES][2] = PWL_RANGES;
@@ -52,16 +53,6 @@ int main(void)
                                           recips[a], vfs[a]);
     }
     (void)sig_pwl_eval_q16(&pwl[0], temps[N_TEMPS / 2], &first_out);
-    bench_start();
-    run_axis(0);
-    bench_axis1();
-    run_axis(1);
-    bench_axis2();
-    run_axis(2);
-    bench_stop();
-    bench_null_start();
-    run_null(0);
-    bench_null_stop();
-    bench_done();
+    measure_three_axes();
     return 0;
 }

@@ -1,12 +1,12 @@
 /* sig_chain.h - the weighing chain: limit -> anti-pulse -> Kalman -> stability,
- * wired as in the paper, plus three switchable fixes beyond the paper.
+ * wired as in the weighing paper, plus three switchable fixes beyond the weighing paper.
  *
  * Per sample: the limit filter replaces an impulse by Dc; the anti-pulse
  * window takes the result and its trimmed mean m becomes the new Dc; the
  * Kalman filter smooths m; the stability detector watches the Kalman output;
  * the output is the Kalman estimate minus the tare offset.
  *
- * Beyond the paper (each off in the paper preset):
+ * Beyond the weighing paper (each off in the "paper" preset):
  *  - lock-out fix (lockout_n > 0): see sig_limit.h.  On a re-seed the window
  *    is emptied so Dc follows the new level at once.
  *  - motion-aware settling (motion_band > 0; the host presets derive it from
@@ -130,8 +130,8 @@ typedef struct {
     sig_noise_q noise;
 } sig_chain_q;
 
-/* The paper's parameters in kg: Q 1e-7, R 0.05, x0 1, P0 10, N 12, A0 2 kg
- * (just above the paper's largest raw reading error, 1.86 kg), stable step
+/* The weighing paper's parameters in kg: Q 1e-7, R 0.05, x0 1, P0 10, N 12, A0 2 kg
+ * (just above the weighing paper's largest raw reading error, 1.86 kg), stable step
  * 0.01 kg, count 1; no lock-out fix, no motion mode, no zero tracking. */
 sig_status sig_chain_params_paper_f(sig_chain_params_f *p);
 

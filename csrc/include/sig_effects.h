@@ -1,5 +1,5 @@
 /* sig_effects.h - on-device forms of the effects pysig.refine can add to a
- * calibration model (issue 6): the firmware applies what refine found.
+ * calibration model: the firmware applies what refine found.
  *
  *   thermal_lag   first-order IIR on the temperature (sig_lag_*): the
  *                 lagged temperature then feeds the offset polynomial
@@ -26,7 +26,7 @@
  * Rounding to a coarser unit is round-half-up: floor((v + 2^(n-1)) / 2^n).
  *
  * Float forms (_f) run the same recurrences in sig_real; they are the
- * forms pysig.effects fits with (tolerance, not bits).
+ * forms pysig.refine.effects fits with (tolerance, not bits).
  * State lives in caller-owned structs: _init checks and stores parameters
  * (state untouched on error), _reset forgets the history (the next sample
  * primes the state), _step advances one sample.  No malloc, no recursion.

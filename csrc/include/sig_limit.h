@@ -4,9 +4,9 @@
  * replaced by Dc (status SIG_WARN_REJECTED).  The first sample is taken as
  * is and seeds Dc.  Used alone, an accepted sample becomes the new Dc; in the
  * chain, sig_chain sets Dc to the anti-pulse mean after every step (as the
- * paper does) through sig_limit_set_ref_*.
+ * weighing paper does) through sig_limit_set_ref_*.
  *
- * Lock-out fix (off when lockout_n == 0, the paper's behaviour): after a
+ * Lock-out fix (off when lockout_n == 0, the weighing paper's behaviour): after a
  * real load change larger than A0 every new sample would be rejected for
  * ever.  With lockout_n > 0, the lockout_n-th successive rejection on the
  * same side is accepted, re-seeds Dc and returns SIG_LIMIT_RESEEDED (the

@@ -20,7 +20,7 @@
  * Both are the multiply-accumulate of a 16x16 hardware multiplier (preload
  * the 32-bit result, MAC / MACS, read the high result word), which also does
  * the 32-bit carry that a 16-bit CPU otherwise computes in software.
- * Example target: bench/mcu/msp430/sig_port_msp430.h. */
+ * Example target: csrc/port/msp430/sig_port_msp430.h. */
 #ifndef SIG_PORT_H
 #define SIG_PORT_H
 

@@ -1,6 +1,6 @@
 """Command line: `pysig <command> ...`.
 
-Each command lives in its own module under pysig/commands/ and provides
+Each command lives in its own module under pysig/cli/commands/ and provides
 `register(subparsers)`, which adds a parser whose `func(args)` does the work.
 A PysigError becomes one line on stderr and the error's own exit status;
 output files are written atomically, so a failure leaves none behind."""

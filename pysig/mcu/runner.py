@@ -3,7 +3,7 @@ run it in a simulator non-interactively and measure it.
 
 Reusable by every MCU bench (bench/mcu_cost.py, later ones):
 
-    img = build_msp430([csrc/sig_poly.c, ...], harness, defines={"ORDER": 2}, hwmult=True)
+    img = build_msp430([csrc/tcomp/sig_poly.c, ...], harness, defines={"ORDER": 2}, hwmult=True)
     calls = measure(img, funcs=["sig_tcomp_apply_q"], regions=["bench_start:bench_stop"],
                     reads={"out": 300})
     calls["funcs"]["sig_tcomp_apply_q"]   -> {"instructions", "cycles", "stack_bytes", ...}

@@ -3,7 +3,7 @@ sig_limit.c, sig_antipulse.c, sig_kalman1.c, sig_stable.c, sig_noise.c and
 sig_chain.c.  Imported by tests only; the library's presets and checks are
 pysig.weigh.presets (tests prove the two equal).
 
-Read next to the paper: limit filter -> anti-pulse filter -> scalar Kalman
+Read next to the weighing paper: limit filter -> anti-pulse filter -> scalar Kalman
 filter -> stability detector.  Every class takes `fixed=False` (floating
 point, Python float == C double) or `fixed=True` (the C fixed-point form:
 integer ADC codes, Kalman state in Q24.7, gain in Q2.30; computed here with
@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import NonFiniteError, RangeError
 
-# ---- status codes (csrc/sig_types.h, sig_limit.h, sig_chain.h) -------------
+# ---- status codes (csrc/include/sig_types.h, sig_limit.h, sig_chain.h) -------------
 OK = 0
 WARN_CLAMPED = 1
 WARN_REJECTED = 4
@@ -55,11 +55,11 @@ AUTO = "auto"
 # its own R (for example from pysig.weigh.scale.noise_sigma on a still record)
 # and the thresholds follow.
 PRESETS = {
-    # The paper exactly: Q, R, x0, P0, N as published.  A0 is not given in
-    # the paper: 2 kg, just above its largest raw reading error (1.86 kg at
-    # 30 kg), so every reading the paper reports passes and larger pulses are
+    # The weighing paper exactly: Q, R, x0, P0, N as published.  A0 is not given in
+    # the weighing paper: 2 kg, just above its largest raw reading error (1.86 kg at
+    # 30 kg), so every reading the weighing paper reports passes and larger pulses are
     # cut.  The stability step (not given either) is 0.01 kg, one scale
-    # division of a 50 kg / 5000 e scale; count 1 as in the paper.
+    # division of a 50 kg / 5000 e scale; count 1 as in the weighing paper.
     "paper": dict(A0=2.0, window=12, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False,
                   stable_step=0.01, stable_count=1, lockout_n=0,
                   motion_band=0.0, motion_count=1, zero_band=0.0, zero_rate=0.0,
@@ -78,7 +78,7 @@ PRESETS = {
     # so its default scale is HX711 counts at 1000 counts per lb and its R is
     # that recording's (0.032 kg ~ 70 counts per reading).  Q/R = 1e-3 lets
     # the estimate forget the last swing of a load change within ~3 s (the
-    # paper's 2e-6 remembers it for ~70 s); the Kalman filter starts from the
+    # weighing paper's 2e-6 remembers it for ~70 s); the Kalman filter starts from the
     # first sample; A0 at 6 sigma of a reading and the lock-out fix after 3
     # rejections on one side; motion mode restarts window and P when the
     # window mean leaves the estimate by more than 4 sigma of the mean twice
@@ -243,7 +243,7 @@ def chain_fixed_params(p):
                 zero_rate_q7=_round_int32("zero_rate", p["zero_rate"] * 128))
 
 
-# ---- fixed-point arithmetic (csrc/sig_types.h, sig_antipulse.c, sig_kalman1.c) ----------
+# ---- fixed-point arithmetic (csrc/include/sig_types.h, sig_antipulse.c, sig_kalman1.c) ----------
 def sat32(v):
     return INT32_MIN if v < INT32_MIN else INT32_MAX if v > INT32_MAX else v
 
@@ -409,7 +409,7 @@ class AntiPulse:
 class Kalman1:
     """A = 1, H = 1: P- = P + Q; K = P-/(P- + R); x += K (z - x); P = R K.
     Fixed: runs on P/R with y = 1/(1 + K + q) by two Newton steps (see
-    csrc/sig_kalman1.h); samples are codes, x is Q24.7."""
+    csrc/include/sig_kalman1.h); samples are codes, x is Q24.7."""
 
     def __init__(self, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False, fixed=False):
         for name, v in (("Q", Q), ("R", R), ("x0", x0), ("P0", P0)):

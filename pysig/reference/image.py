@@ -1,5 +1,5 @@
-"""Coefficient image: the executable spec of csrc/sig_crc16.c and
-csrc/sig_image.c (validation, section lookup, A/B slot choice).
+"""Coefficient image: the executable spec of csrc/store/sig_crc16.c and
+csrc/store/sig_image.c (validation, section lookup, A/B slot choice).
 
 Layout (little-endian; see sig_image.h):
     magic b"psig" | version u8 (1) | flags u8 (0) | total_len u16 | sequence u32
@@ -99,7 +99,7 @@ def select_slot(slot_a, slot_b):
 
 def build(section_list, seq):
     """Image bytes from [(type, payload)] and a sequence number (the writer's
-    spec; pysig/image.py is the checked front end)."""
+    spec; pysig/store/image.py is the checked front end)."""
     body = b"".join(struct.pack("<HH", t, len(p)) + bytes(p) for t, p in section_list)
     total = HEADER_LEN + len(body) + CRC_LEN
     head = MAGIC + struct.pack("<BBHI", VERSION, 0, total, seq & 0xFFFFFFFF)

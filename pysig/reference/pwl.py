@@ -1,5 +1,5 @@
 """Piecewise-linear lookup table with uniform knots: the executable spec of
-csrc/sig_pwl.c, one scalar at a time, in plain Python integers.
+csrc/tcomp/sig_pwl.c, one scalar at a time, in plain Python integers.
 
 Fixed point (read next to sig_pwl.h):
     d    = clamp(t, t_lo, t_hi) - t_lo                 0 <= d <= 65535

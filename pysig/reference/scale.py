@@ -1,6 +1,6 @@
 """Reference: apply a stored linear scale calibration, counts -> mass.
 
-The executable spec of csrc/sig_scale.c.
+The executable spec of csrc/weigh/sig_scale.c.
 
 Float form:   mass = (counts - offset) * gain            (gain: unit per count)
 

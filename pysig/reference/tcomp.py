@@ -1,5 +1,5 @@
-"""Temperature compensation: the executable spec of csrc/sig_poly.c and
-csrc/sig_tcomp.c, one sample at a time, in plain Python integers and floats.
+"""Temperature compensation: the executable spec of csrc/tcomp/sig_poly.c and
+csrc/tcomp/sig_tcomp.c, one sample at a time, in plain Python integers and floats.
 
 Fixed point (read next to sig_tcomp.h):
     t       int16, 0.01 °C; clamped to [t_lo, t_hi] (status SIG_WARN_CLAMPED)

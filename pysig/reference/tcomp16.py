@@ -1,4 +1,4 @@
-"""Compact temperature compensation: the executable spec of csrc/sig_tcomp16.c,
+"""Compact temperature compensation: the executable spec of csrc/tcomp/sig_tcomp16.c,
 in plain Python integers (read next to sig_tcomp16.h).
 
     t       int16, 0.01 °C; clamped to [t_lo, t_hi] (status SIG_WARN_CLAMPED)

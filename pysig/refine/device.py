@@ -3,7 +3,7 @@ effects refine added, their coefficient-image sections, and the refined
 correction evaluated three ways (float model, Python fixed-point reference,
 C through Cython) so tests can hold them together.
 
-Image section payloads (little-endian; ids reserved in csrc/sig_image.h):
+Image section payloads (little-endian; ids reserved in csrc/include/sig_image.h):
   2 GAIN_POLY     u8 order, 3 x u8 reserved (0), (order+1) x i32 coef Q16.16,
                   ascending powers of the offset section's u        (sig_gain_q)
   3 THERMAL_LAG   i32 alpha_q16 (1..65536), u8 frac (16), u8 reserved (0)
@@ -105,7 +105,7 @@ def correct_c(dev, t_centi, y):
 # ---- image sections --------------------------------------------------------------
 
 def offset_payload(offset):
-    """Section 1 payload for one axis (format in csrc/sig_image.h)."""
+    """Section 1 payload for one axis (format in csrc/include/sig_image.h)."""
     coef = list(offset["coef"])
     head = struct.pack("<BBBBhhhhh", 1, len(coef) - 1, offset["u_shift"], 0, offset["t_lo"],
                        offset["t_hi"], offset["t_center"], offset["t0"], offset["u_mul"])

@@ -1,9 +1,9 @@
-"""Candidate effects of the refinement loop (issue 6): each a named family
+"""Candidate effects of the refinement loop: each a named family
 with its own parameters, turned into regressor columns of one linear model.
 
 The measurement model refine fits, in the sensor's own unit (LSB, counts):
 
-    y = b0 + g*r + sum_k a_k u(T')^k                      base (the paper's)
+    y = b0 + g*r + sum_k a_k u(T')^k                      base (the magnetometer paper's)
           + sum_j d_j r u(T')^j                           gain_drift
           + h * (T' - play_w(T')) / w                     hysteresis
           + c * (lag_tau(r) - r) / |r|max                 creep
@@ -57,7 +57,7 @@ def play_operator(x, width, start=0):
     heating, -width while cooling: the hysteresis branch state.  `start`
     (+1 heating, -1 cooling, 0 neither) is the branch before the first
     sample: p[0] = x[0] - start * width."""
-    if _c_effects is not None:     # the firmware's own float form (csrc/sig_effects.c), fast
+    if _c_effects is not None:     # the firmware's own float form (csrc/refine/sig_effects.c), fast
         branch, _, _ = _c_effects.hyst_f(x, float(width), 0.0, int(start))
         return np.asarray(x, dtype=float) - branch
     xs = np.asarray(x, dtype=float).tolist()

@@ -32,7 +32,7 @@ class ChamberParams:
     seed: int = 0
     sample_rate_hz: float = 1.0
     profile: str = "steps"                      # "steps" or "ramp"
-    step_temps_c: tuple = (0.0, 25.0, 50.0, 70.0)   # the paper's chamber steps
+    step_temps_c: tuple = (0.0, 25.0, 50.0, 70.0)   # the magnetometer paper's chamber steps
     dwell_s: float = 1800.0                     # time on each plateau
     ramp_c_per_min: float = 1.0                 # chamber slew between steps / ramp speed
     ramp_cycles: int = 1                        # "ramp": up min->max and back down, this many times
@@ -76,7 +76,33 @@ def chamber_temperature(p, t):
 
 
 def simulate(p=ChamberParams()):
-    """dict column -> array (see the module docstring)."""
+    """Simulate one thermal-chamber run of the magnetometer.
+
+    Parameters
+    ----------
+    p : ChamberParams, optional
+        Profile (the magnetometer paper's 0/25/50/70 °C steps by default),
+        field, drift, noise and the switchable effects; seeded.
+
+    Returns
+    -------
+    dict
+        column -> array: t (s), temp (the MCU's sensor, °C), x, y, z (int16
+        readings), ref_x, ref_y, ref_z (the true field, LSB).
+
+    Raises
+    ------
+    ValueError
+        An unknown profile.
+
+    Examples
+    --------
+    >>> run = simulate(ChamberParams(dwell_s=600.0))
+    >>> sorted(run)
+    ['ref_x', 'ref_y', 'ref_z', 't', 'temp', 'x', 'y', 'z']
+    >>> run["t"].size, float(run["temp"][0]), float(run["temp"][-1])
+    (6600, 0.0, 70.0)
+    """
     rng = np.random.default_rng(p.seed)
     dt = 1.0 / p.sample_rate_hz
     t = np.arange(0.0, chamber_temperature(p, None), dt)

@@ -1,4 +1,4 @@
-"""Load-cell simulator: what the paper's scale hardware would hand the filter.
+"""Load-cell simulator: what the weighing paper's scale hardware would hand the filter.
 
 An L6D-like strain-gauge cell (about 0.15 mV/kg at its excitation, rated
 2.5-50 kg) feeds a 24-bit ADS1232-like ADC: full scale +-0.5*Vref/PGA, one
@@ -140,10 +140,44 @@ def load_profile(params, t):
 
 
 def simulate(params=None, seed=0, **overrides):
-    """One run: dict with t (s), counts (int32 ADC codes), ref_kg (applied load).
+    """Simulate one load-cell run.
 
-    `overrides` replace fields of `params` (LoadCellParams() when None).
-    The same params and seed give the same run, bit for bit."""
+    Parameters
+    ----------
+    params : LoadCellParams, optional
+        The cell, ADC, load steps and disturbances (LoadCellParams() when
+        None: a still, noiseless 0 kg for 30 s).
+    seed : int, optional
+        The same params and seed give the same run, bit for bit.
+    **overrides
+        Fields of LoadCellParams replacing those of `params`.
+
+    Returns
+    -------
+    dict
+        t (s), counts (int32 ADC codes, clipped at the 24-bit rails),
+        ref_kg (the load applied: the truth a scale should show).
+
+    Raises
+    ------
+    RangeError
+        A parameter outside its range (named), e.g. a rate of 0.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> run = simulate(seed=1, load_steps=((0.0, 0.0), (5.0, 20.0)), duration_s=10.0,
+    ...                noise_uv_rms=0.3)
+    >>> run["t"].size, run["counts"].dtype, run["ref_kg"][-1]
+    (100, dtype('int32'), np.float64(20.0))
+    >>> step = run["counts"][-10:].mean() - run["counts"][:10].mean()
+    >>> round(float(step / LoadCellParams().counts_per_kg), 1)        # kg
+    20.0
+    >>> simulate(rate_hz=0.0)
+    Traceback (most recent call last):
+        ...
+    pysig.errors.RangeError: LoadCellParams.rate_hz must be finite and > 0, got 0.0
+    """
     if params is None:
         params = LoadCellParams(**overrides)
     elif overrides:

@@ -1,4 +1,4 @@
-"""Coefficient image for non-volatile memory (format: csrc/sig_image.h),
+"""Coefficient image for non-volatile memory (format: csrc/include/sig_image.h),
 written and read from Python.
 
 Generic part: `build_image(sections, sequence)` and `read_image(data)` work
@@ -58,7 +58,33 @@ def crc16_ccitt(data, crc=0xFFFF):
 
 
 def build_image(sections, sequence=1):
-    """Image bytes from [(type, payload)]; ValueError for a bad type or size."""
+    """The bytes of a coefficient image (format: csrc/include/sig_image.h):
+    header, sections, CRC.
+
+    Parameters
+    ----------
+    sections : iterable of (int, bytes)
+        (type id 1..65535, payload) pairs, in order.
+    sequence : int, optional
+        uint32 sequence number (the A/B slot with the higher one wins).
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    ValueError
+        A type id, payload or image size, or a sequence out of range.
+
+    Examples
+    --------
+    >>> image = build_image([(SECTION_EXPERIMENTAL, b"hello")], sequence=7)
+    >>> len(image), image[:4]
+    (23, b'psig')
+    >>> read_image(image)
+    (7, [(32768, b'hello')])
+    """
     sections = [(int(t), bytes(p)) for t, p in sections]
     for t, p in sections:
         if not 1 <= t <= 0xFFFF:
@@ -97,7 +123,34 @@ def _image_problem(data):
 
 
 def read_image(data, where="image"):
-    """(sequence, [(type, payload)]) of a valid image; ModelFileError otherwise."""
+    """Validate an image (magic, version, lengths, CRC) and split it.
+
+    Parameters
+    ----------
+    data : bytes-like
+        The image.
+    where : str, optional
+        Names the image in error messages.
+
+    Returns
+    -------
+    sequence : int
+    sections : list of (int, bytes)
+
+    Raises
+    ------
+    ModelFileError
+        A corrupt image, saying what is wrong (format or CRC).
+
+    Examples
+    --------
+    >>> image = bytearray(build_image([(SECTION_EXPERIMENTAL, b"hello")]))
+    >>> image[-1] ^= 1                                   # one flipped bit
+    >>> read_image(image)
+    Traceback (most recent call last):
+        ...
+    pysig.errors.ModelFileError: image: corrupt coefficient image: CRC mismatch (corrupt or partly written)
+    """
     data = bytes(data)
     problem = _image_problem(data)
     if problem:
@@ -120,6 +173,36 @@ def temp_code_payload(kind):
 
 
 def find_section(data, typ, where="image"):
+    """The payload of the first section of type `typ` in a valid image.
+
+    Parameters
+    ----------
+    data : bytes-like
+        The image.
+    typ : int
+        The section type (SECTION_*).
+    where : str, optional
+        Names the image in error messages.
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    ModelFileError
+        A corrupt image, or no section of that type.
+
+    Examples
+    --------
+    >>> image = build_image([(SECTION_EXPERIMENTAL, b"hello")])
+    >>> find_section(image, SECTION_EXPERIMENTAL)
+    b'hello'
+    >>> find_section(image, SECTION_OFFSET_POLY)
+    Traceback (most recent call last):
+        ...
+    pysig.errors.ModelFileError: image: no section of type 1 in the image
+    """
     _, sections = read_image(data, where)
     for t, p in sections:
         if t == typ:
@@ -128,7 +211,23 @@ def find_section(data, typ, where="image"):
 
 
 def offset_poly_payload(model):
-    """Payload of SECTION_OFFSET_POLY for a TcompModel (fixed-point form)."""
+    """Payload of SECTION_OFFSET_POLY for a TcompModel (fixed-point form).
+
+    Parameters
+    ----------
+    model : TcompModel
+        A fitted model (pysig.tcomp.model).
+
+    Returns
+    -------
+    bytes
+        14 header bytes, then per axis q (u8) and order + 1 int32
+        coefficients, little-endian (layout in csrc/include/sig_image.h).
+
+    Examples
+    --------
+    See `model_image`, which wraps it into an image.
+    """
     f = model.fixed_fields()
     out = struct.pack("<BBBBhhhhh", len(model.axes), model.order, f["u_shift"], 0,
                       f["t_lo"], f["t_hi"], f["t_center"], f["t0"], f["u_mul"])
@@ -138,8 +237,33 @@ def offset_poly_payload(model):
 
 
 def parse_offset_poly(payload, where="image"):
-    """Fields of sig_tcomp_q from a SECTION_OFFSET_POLY payload (the checks
-    of sig_tcomp_load_image)."""
+    """Fields of sig_tcomp_q from a SECTION_OFFSET_POLY payload.
+
+    Parameters
+    ----------
+    payload : bytes
+        The section's payload (see `find_section`).
+    where : str, optional
+        Names the image in error messages.
+
+    Returns
+    -------
+    dict
+        n_axes, order, u_shift, t_lo, t_hi, t_center, t0, u_mul, q, coef.
+
+    Raises
+    ------
+    ModelFileError
+        The checks of sig_tcomp_load_image: length, axes, order, reserved
+        byte.
+
+    Examples
+    --------
+    >>> parse_offset_poly(bytes(14))
+    Traceback (most recent call last):
+        ...
+    pysig.errors.ModelFileError: image: offset section: 0 axes, order 0, reserved 0
+    """
     if len(payload) < OFFSET_POLY_FIXED_LEN:
         raise ModelFileError(f"{where}: offset section of {len(payload)} bytes is too short")
     n_axes, order, u_shift, reserved, t_lo, t_hi, t_center, t0, u_mul = \
@@ -159,7 +283,32 @@ def parse_offset_poly(payload, where="image"):
 
 
 def model_image(model, sequence=1, extra_sections=()):
-    """The NVM image of a model: its offset section plus any others."""
+    """The NVM image of a temperature model: its offset section (the
+    fixed-point form sig_tcomp_load_image reads) plus any others.
+
+    Parameters
+    ----------
+    model : TcompModel
+        A fitted model (pysig.tcomp.model).
+    sequence, extra_sections : optional
+        The image's sequence number and more (type, payload) sections
+        after the offset one, as for `build_image` (which raises
+        ValueError for a bad one).
+
+    Returns
+    -------
+    bytes
+
+    Examples
+    --------
+    >>> from pysig.sim.chamber import ChamberParams, simulate
+    >>> from pysig.tcomp.fit import fit_tcomp
+    >>> run = simulate(ChamberParams(dwell_s=600.0))
+    >>> image = model_image(fit_tcomp(run["temp"], {"x": run["x"]}, order=2), sequence=3)
+    >>> fields = parse_offset_poly(find_section(image, SECTION_OFFSET_POLY))
+    >>> fields["order"], fields["t_lo"], fields["t_hi"]
+    (2, -19, 7012)
+    """
     return build_image([(SECTION_OFFSET_POLY, offset_poly_payload(model)), *extra_sections], sequence)
 
 
@@ -196,5 +345,22 @@ def parse_compact_poly(data, where="image"):
 
 
 def compact_image(compact, sequence=1, extra_sections=()):
-    """The NVM image of a CompactModel: its compact section plus any others."""
+    """The NVM image of a compact model: its compact section plus any others
+    (`sequence`, `extra_sections` as for `build_image`).
+
+    Parameters
+    ----------
+    compact : CompactModel or dict
+        As for `compact_poly_payload`.
+    sequence : int, optional
+    extra_sections : iterable of (int, bytes), optional
+
+    Returns
+    -------
+    bytes
+
+    Examples
+    --------
+    See `parse_compact_poly`.
+    """
     return build_image([(SECTION_COMPACT_POLY, compact_poly_payload(compact)), *extra_sections], sequence)

@@ -1,5 +1,5 @@
 # cython: language_level=3
-"""Cython bridge to csrc/sig_pwl.c: evaluate a piecewise-linear table over a
+"""Cython bridge to csrc/tcomp/sig_pwl.c: evaluate a piecewise-linear table over a
 numpy array of temperatures with the very C code the firmware runs."""
 import numpy as np
 cimport numpy as cnp

@@ -1,5 +1,5 @@
 # cython: language_level=3
-"""Cython bridge to csrc/sig_poly.c, sig_tcomp.c, sig_crc16.c and
+"""Cython bridge to csrc/tcomp/sig_poly.c, sig_tcomp.c, sig_crc16.c and
 sig_image.c: the temperature compensation the firmware runs, over numpy
 arrays, and the C loader of the coefficient image."""
 import numpy as np

@@ -1,5 +1,5 @@
 # cython: language_level=3
-"""Cython bridge to csrc/sig_tcomp16.c: the compact fixed-point temperature
+"""Cython bridge to csrc/tcomp/sig_tcomp16.c: the compact fixed-point temperature
 compensation (int16 multiplicands, 16x16 products) over numpy arrays.  The
 coefficients come from pysig.tcomp.quant.quantize_compact, or from a coefficient
 image through the firmware's loader (Tcomp16Q.from_image)."""

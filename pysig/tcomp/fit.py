@@ -1,4 +1,4 @@
-"""Training of the temperature-compensation model (issue 3): per axis, the
+"""Training of the temperature-compensation model: per axis, the
 least-squares polynomial f(T) of order 1-8 (pysig.lsq, centred and scaled
 temperature) and the correction delta(T) = f(T) - f(T0); order selection by
 leave-one-temperature-out cross-validation, reported per order like the
@@ -195,12 +195,41 @@ def fit_tcomp(temp, columns, order=2, t0=25.0, temp_column="temp", groups=None, 
 
 
 def cross_validate(temp, columns, orders=range(1, MAX_FIT_ORDER + 1), groups=None):
-    """Leave-one-temperature-out: for each counted group, fit on the others
-    and measure the residual y - f(T) on the held-out group (the polynomial
-    itself, not clamped: CV judges the curve).  Per order: RMS, max |error|
-    and variance of the held-out residuals per axis and pooled; "raw" is the
-    error without correction (y minus its mean).  Orders whose training folds
-    would have fewer than order + 1 temperatures are reported as refused."""
+    """Leave-one-temperature-out cross-validation of each polynomial order.
+
+    For each counted temperature group, fit on the others and measure the
+    residual y - f(T) on the held-out group (the polynomial itself, not
+    clamped: CV judges the curve).
+
+    Parameters
+    ----------
+    temp : array_like
+        Temperatures, °C.
+    columns : dict
+        name -> readings, as for `fit_tcomp`.
+    orders : iterable of int, optional
+        The orders to score.
+    groups : TemperatureGroups, optional
+        Precomputed `temperature_groups(temp)` (the folds).
+
+    Returns
+    -------
+    list of dict
+        One row per order (first "raw": the error without correction, y
+        minus its mean): RMS, max |error| and variance of the held-out
+        residuals, pooled and per axis.  An order whose training folds
+        would have fewer than order + 1 temperatures carries "refused".
+
+    Examples
+    --------
+    >>> from pysig.sim.chamber import ChamberParams, simulate
+    >>> run = simulate(ChamberParams(dwell_s=600.0))
+    >>> cv = cross_validate(run["temp"], {"x": run["x"]}, orders=(1, 2, 3))
+    >>> [(r["label"], round(r["rms"])) for r in cv]
+    [('raw', 37), ('order 1', 21), ('order 2', 4), ('order 3', 4)]
+    >>> select_order(cv)
+    2
+    """
     temp, columns = check_inputs(temp, columns, "cross-validation")
     if groups is None:
         groups = temperature_groups(temp)
@@ -234,7 +263,32 @@ def _stats(resid):
 
 def select_order(cv, tolerance=0.05):
     """Smallest order whose pooled held-out variance is within `tolerance`
-    of the best cross-validated order."""
+    of the best cross-validated order.
+
+    Parameters
+    ----------
+    cv : list of dict
+        The rows of `cross_validate`.
+    tolerance : float, optional
+        Relative slack on the best variance.
+
+    Returns
+    -------
+    int
+        The order.
+
+    Raises
+    ------
+    InsufficientDataError
+        No order could be cross-validated (fewer than 3 temperatures).
+
+    Examples
+    --------
+    >>> rows = [{"order": 0, "var": 9.0}, {"order": 1, "var": 4.0},
+    ...         {"order": 2, "var": 1.0}, {"order": 3, "var": 0.98}]
+    >>> select_order(rows)
+    2
+    """
     ok = [r for r in cv if r["order"] >= 1 and "refused" not in r]
     if not ok:
         raise InsufficientDataError("order selection: no order could be cross-validated "

@@ -44,6 +44,52 @@ def checksum(d):
 
 @dataclass
 class TcompModel:
+    """A fitted temperature-compensation model (made by
+    `pysig.tcomp.fit.fit_tcomp`, read back by `load`).
+
+    corrected = reading - delta(T), delta(T) = f(T) - f(T0), per axis; the
+    temperature is clamped to the calibrated range [t_lo, t_hi].
+
+    Parameters
+    ----------
+    axes : list of str
+        Column names, 1 to 3.
+    order : int
+        Polynomial order, 1..8.
+    t0 : float
+        Reference temperature, °C.
+    scaling : TemperatureScaling
+        The int16 temperature scaling (0.01 °C) the C model uses.
+    coef : list of ndarray
+        Per axis: order + 1 float coefficients of delta, ascending powers of
+        u = (T - center) / scale.
+    f_t0 : list of float
+        Per axis: f(T0), the reading at T0 (information).
+    q, coef_q : list
+        Per axis: fraction bits and int32 coefficients of the fixed form.
+    error_bound_lsb : list of float
+        Per axis: bound of |fixed delta - float delta|.
+    temp_column : str, optional
+        The temperature column's name.
+    report : dict, optional
+        What the fit measured (groups, RMS, conditioning, CV table).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from pysig.sim.chamber import ChamberParams, simulate
+    >>> from pysig.tcomp.fit import fit_tcomp
+    >>> run = simulate(ChamberParams(dwell_s=600.0))
+    >>> fit_tcomp(run["temp"], {"x": run["x"]}, order=2).save("model.json")
+    >>> model = load("model.json")
+    >>> model.order, model.axes, model.t_lo, model.t_hi
+    (2, ['x'], -0.19, 70.12)
+    >>> np.round(model.delta([0.0, 25.0, 70.0], 0), 1)     # zero at T0 = 25 °C
+    array([ -4.3,   0. , 102. ])
+    >>> [x] = model.apply_float([0.0, 70.0], [[3630.0, 3700.0]])
+    >>> np.round(x, 1)
+    array([3634.3, 3598. ])
+    """
     axes: list                 # column names, 1..3
     order: int
     t0: float                  # reference temperature, °C
@@ -134,6 +180,8 @@ class TcompModel:
 
 
 def from_dict(d, where="model", verify_checksum=False):
+    """A TcompModel from the dict `TcompModel.to_dict` wrote, checked field by
+    field; ModelFileError (naming `where`) for anything else."""
     if not isinstance(d, dict) or d.get("format") != FORMAT:
         raise ModelFileError(f"{where}: not a pysig temperature-compensation model "
                              f"(format {d.get('format') if isinstance(d, dict) else None!r}, "
@@ -186,6 +234,31 @@ def from_dict(d, where="model", verify_checksum=False):
 
 
 def load(path):
+    """Read a model written by `TcompModel.save`, checksum verified.
+
+    Parameters
+    ----------
+    path : path-like
+        The JSON model file.
+
+    Returns
+    -------
+    TcompModel
+
+    Raises
+    ------
+    ModelFileError
+        Unreadable, not JSON, another format or version, no or a wrong
+        checksum (a hand edit), malformed fields.
+
+    Examples
+    --------
+    >>> _ = open("other.json", "w").write('{"format": "x"}')
+    >>> load("other.json")
+    Traceback (most recent call last):
+        ...
+    pysig.errors.ModelFileError: other.json: not a pysig temperature-compensation model ...
+    """
     try:
         with open(path) as fh:
             d = json.load(fh)

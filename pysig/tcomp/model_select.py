@@ -1,5 +1,5 @@
 """Choosing a drift model's size (polynomial order, table knot count) by
-blocked cross-validation over temperature, and what the seed paper's
+blocked cross-validation over temperature, and what the magnetometer paper's
 four-temperature calibration would have chosen.
 
 Blocked CV: the temperature range is cut into `n_blocks` contiguous blocks
@@ -12,10 +12,10 @@ stay in the training set, so no fold extrapolates: the firmware clamps
 outside its calibrated range, and extrapolation error is a different
 question (a polynomial's is unbounded).
 
-Four-temperature calibration (the seed paper: 0, 25, 50, 70 °C): when the
+Four-temperature calibration (the magnetometer paper: 0, 25, 50, 70 °C): when the
 data covers the targets, the nearest distinct data temperature to each;
 otherwise ("spread") the targets are mapped affinely onto the data's range,
-keeping the paper's relative spacing, and the nearest distinct points taken."""
+keeping the magnetometer paper's relative spacing, and the nearest distinct points taken."""
 import warnings
 from dataclasses import dataclass, field
 
@@ -234,7 +234,7 @@ def choose(scores, tolerance=CHOICE_TOLERANCE):
     return min((s for s in scores if s.cv_rms <= best * (1.0 + tolerance)), key=lambda s: s.size)
 
 
-# ---- the paper's four-temperature calibration ----------------------------------
+# ---- the magnetometer paper's four-temperature calibration ----------------------------------
 
 @dataclass(frozen=True)
 class PaperPoints:
@@ -244,7 +244,7 @@ class PaperPoints:
 
 
 def paper_points(temp, targets=PAPER_TEMPS):
-    """Nearest distinct data temperatures to the paper's calibration
+    """Nearest distinct data temperatures to the magnetometer paper's calibration
     temperatures ("nearest" when the data covers them, else "spread": the
     targets mapped onto the data's range first)."""
     temp = np.asarray(temp, dtype=float)
@@ -272,13 +272,13 @@ def paper_points(temp, targets=PAPER_TEMPS):
 @dataclass(frozen=True)
 class FourPointResult:
     order: int
-    points_rms: float        # residual at the calibration points (what the paper saw)
+    points_rms: float        # residual at the calibration points (what the magnetometer paper saw)
     loo_rms: float           # leave-one-out over the calibration points (NaN: not possible)
     dense_rms: float         # residual over the whole curve (what it costs)
 
 
 def four_point_study(temp, y, orders=(1, 2, 3), targets=PAPER_TEMPS):
-    """Fit each order on the paper's four points; error at the points, their
+    """Fit each order on the magnetometer paper's four points; error at the points, their
     leave-one-out error (the only cross-validation four points allow: orders
     up to 2) and the error on the dense curve."""
     pts = paper_points(temp, targets)

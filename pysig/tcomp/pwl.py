@@ -1,6 +1,6 @@
 """Piecewise-linear lookup tables with uniform knots: least-squares fit on
 the hat-function basis (pysig.lsq.fit_linear_model, the one solver) and
-quantisation to the fixed-point form of csrc/sig_pwl.c.
+quantisation to the fixed-point form of csrc/tcomp/sig_pwl.c.
 
 A table with knots k_0 < ... < k_{n-1} (uniform) is f(T) = sum_j v_j h_j(T),
 h_j the hat function that is 1 at k_j and 0 at the neighbouring knots, so
@@ -26,7 +26,7 @@ FRAC_BITS = 12          # SIG_PWL_FRAC_BITS
 MIN_KNOTS = 2
 MAX_KNOTS = 255
 #: the int16 temperature unit of the temperature-compensation module
-#: (csrc/sig_tcomp.h, SIG_TCOMP_T_PER_DEGC): 0.01 °C.
+#: (csrc/include/sig_tcomp.h, SIG_TCOMP_T_PER_DEGC): 0.01 °C.
 TEMP_UNITS_PER_C = 100
 #: bytes of the fixed-point parameters besides the table: recip (uint32),
 #: t_lo, t_hi (int16), n_knots, value_frac (uint8).

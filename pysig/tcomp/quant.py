@@ -86,8 +86,32 @@ class QuantizedAxis:
 
 
 def quantize_axis(coef, what="axis"):
-    """Q format and int32 coefficients for one axis' delta polynomial
-    (float coefficients in reading LSB, ascending powers of u)."""
+    """Q format and int32 coefficients for one axis' delta polynomial.
+
+    Parameters
+    ----------
+    coef : sequence of float
+        Coefficients in reading LSB, ascending powers of u.
+    what : str, optional
+        Names the axis in error messages.
+
+    Returns
+    -------
+    QuantizedAxis
+        q (the most fraction bits whose Horner sums fit int32), the int32
+        coefficients, and a bound on |fixed delta - float delta| in LSB.
+
+    Raises
+    ------
+    RangeError
+        A non-finite coefficient, or one too large for int32 even at Q0.
+
+    Examples
+    --------
+    >>> qa = quantize_axis([12.5, -3.25, 0.75])
+    >>> qa.q, qa.coef
+    (26, (838860800, -218103808, 50331648))
+    """
     coef = [float(c) for c in coef]
     if not all(math.isfinite(c) for c in coef):
         raise RangeError(f"{what}: non-finite coefficient {coef}")
@@ -103,7 +127,7 @@ def quantize_axis(coef, what="axis"):
                      f"(sum |c| = {sum(abs(c) for c in coef):.4g} LSB)")
 
 
-# ---- compact form (csrc/sig_tcomp16.h) ---------------------------------------
+# ---- compact form (csrc/include/sig_tcomp16.h) ---------------------------------------
 from fractions import Fraction  # noqa: E402  (exact re-expansion of the float polynomial)
 
 # int16 multiplicands and 16x16 products only: v = t - t_lo in 0.01 °C (exact,

@@ -1,4 +1,4 @@
-# C API of the weighing chain (csrc/sig_limit.h, sig_antipulse.h,
+# C API of the weighing chain (csrc/include/sig_limit.h, sig_antipulse.h,
 # sig_kalman1.h, sig_stable.h, sig_chain.h), host build: sig_real is double.
 from libc.stdint cimport int8_t, int16_t, int32_t, uint8_t, uint32_t
 

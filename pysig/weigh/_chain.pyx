@@ -49,9 +49,34 @@ cdef _check_init(sig_status st, what):
 
 # ---- stage 1 ---------------------------------------------------------------
 cdef class LimitFilter:
-    """|x - Dc| > a0 -> replaced by Dc; lockout_n > 0 re-seeds after that many
-    successive rejections on one side.  Used alone, an accepted sample
-    becomes Dc."""
+    """Limit filter, the chain's first stage: a sample further than `a0`
+    from the reference Dc is replaced by Dc.  Used alone, an accepted sample
+    becomes Dc.
+
+    Parameters
+    ----------
+    a0 : float
+        The largest accepted |x - Dc|, in signal units (> 0).
+    lockout_n : int, optional
+        0 (the weighing paper's behaviour) or the number of successive
+        rejections on one side after which the filter accepts the level
+        and re-seeds (a real load change larger than a0).
+    fixed : bool, optional
+        The firmware's fixed-point form: samples are int32 ADC codes.
+
+    Raises
+    ------
+    RangeError
+        A parameter outside its range (named in the message).
+
+    Examples
+    --------
+    >>> out, status = LimitFilter(2.0).process([10.0, 10.5, 30.0, 10.2], flags=True)
+    >>> out                      # the 30.0 pulse is replaced by the reference
+    array([10. , 10.5, 10.5, 10.2])
+    >>> status                   # 4: WARN_REJECTED
+    array([0, 0, 4, 0], dtype=int16)
+    """
     cdef sig_limit_f f
     cdef sig_limit_q q
     cdef readonly bint fixed
@@ -117,8 +142,27 @@ cdef class LimitFilter:
 
 # ---- stage 2 ---------------------------------------------------------------
 cdef class AntiPulse:
-    """Mean of the last `window` samples without one max and one min (fills
-    with what it holds: 1 -> itself, 2 -> mean, k -> trimmed mean of k)."""
+    """Anti-pulse filter, the chain's second stage: the mean of the last
+    `window` samples without one max and one min (while it fills: 1 sample
+    -> itself, 2 -> their mean, k -> the trimmed mean of k).
+
+    Parameters
+    ----------
+    window : int, optional
+        Samples averaged (the weighing paper's N).
+    fixed : bool, optional
+        The firmware's fixed-point form: samples are int32 ADC codes.
+
+    Raises
+    ------
+    RangeError
+        `window` outside the range the C core accepts.
+
+    Examples
+    --------
+    >>> AntiPulse(4).process([1.0, 2.0, 9.0, 3.0, 4.0])
+    array([1. , 1.5, 2. , 2.5, 3.5])
+    """
     cdef sig_antipulse_f f
     cdef sig_antipulse_q q
     cdef readonly bint fixed
@@ -178,8 +222,33 @@ cdef class AntiPulse:
 
 # ---- stage 3 ---------------------------------------------------------------
 cdef class Kalman1:
-    """Scalar Kalman filter, A = H = 1 (paper defaults Q=1e-7, R=0.05, x0=1,
-    P0=10).  Fixed: samples are codes, x in Q24.7, gain in Q2.30."""
+    """Scalar Kalman filter, A = H = 1, the chain's third stage.
+
+    Parameters
+    ----------
+    Q, R : float, optional
+        Process and measurement noise variances (signal units squared);
+        the defaults are the weighing paper's (kg).
+    x0, P0 : float, optional
+        Initial estimate and its variance.
+    seed_first : bool, optional
+        Start from the first sample instead of x0.
+    fixed : bool, optional
+        The firmware's fixed-point form: samples are codes, x in Q24.7,
+        gain in Q2.30.
+
+    Raises
+    ------
+    RangeError
+        A parameter outside its range (named in the message).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> k = Kalman1(Q=1e-4, R=0.05, x0=0.0, P0=10.0)
+    >>> np.round(k.process([1.0, 1.0, 1.0]), 4)
+    array([0.995 , 0.9975, 0.9983])
+    """
     cdef sig_kalman1_f f
     cdef sig_kalman1_q q
     cdef readonly bint fixed
@@ -257,8 +326,30 @@ cdef class Kalman1:
 
 # ---- stage 4 ---------------------------------------------------------------
 cdef class StabilityDetector:
-    """Stable when successive values differ by at most `step` for `count`
-    samples (paper: count 1).  Fixed: values and step rounded to Q24.7."""
+    """Stability detector, the chain's last stage: stable once successive
+    values have differed by at most `step` for `count` samples.
+
+    Parameters
+    ----------
+    step : float, optional
+        The largest change between successive values that counts as still.
+    count : int, optional
+        Successive still samples needed (the weighing paper: 1).
+    fixed : bool, optional
+        The firmware's fixed-point form: values and step rounded to Q24.7.
+
+    Raises
+    ------
+    RangeError
+        A parameter outside its range.
+    NonFiniteError
+        `process` given NaN or inf (this stage alone takes finite values).
+
+    Examples
+    --------
+    >>> StabilityDetector(step=0.1, count=2).process([1.0, 1.05, 1.02, 1.5, 1.52, 1.55])
+    array([False, False,  True, False, False,  True])
+    """
     cdef sig_stable_f f
     cdef sig_stable_q q
     cdef readonly bint fixed
@@ -445,14 +536,55 @@ cdef class Chain:
         sig_chain_reset_q(&self.q) if self.fixed else sig_chain_reset_f(&self.f)
 
     def step(self, x):
-        """One sample -> (filtered, stable); status bits in .status."""
+        """Filter one sample.
+
+        Parameters
+        ----------
+        x : float
+            The sample (an ADC code in the fixed form).
+
+        Returns
+        -------
+        filtered : float
+        stable : bool
+            The status bits of the step are in `.status`.
+        """
         out, stable = self.process(np.array([x], dtype=np.float64))
         return float(out[0]), bool(stable[0])
 
     def process(self, x, flags=False):
-        """Array -> (filtered, stable[, status int16 per sample]).  A float
-        non-finite sample is an impulse (status WARN_REJECTED); one before any
-        finite sample gives NaN, not stable, status -2 (SIG_ERR_NONFINITE)."""
+        """Filter an array, carrying the state on from the previous call.
+
+        Parameters
+        ----------
+        x : array_like
+            Samples (float; in the fixed form ADC codes, rounded).
+        flags : bool, optional
+            Also return the status of each sample.
+
+        Returns
+        -------
+        filtered : ndarray of float64
+        stable : ndarray of bool
+        status : ndarray of int16
+            Only with `flags`: warning bits per sample, or a negative
+            status code.  A float non-finite sample is an impulse (status
+            WARN_REJECTED); one before any finite sample gives NaN, not
+            stable, status -2 (SIG_ERR_NONFINITE).
+
+        Raises
+        ------
+        NonFiniteError
+            The fixed form given NaN or inf (ADC codes are finite).
+
+        Examples
+        --------
+        >>> chain = Chain("paper", units_per_kg=1.0)
+        >>> first, _ = chain.process([10.0] * 20)
+        >>> rest, stable = chain.process([10.0] * 20)    # continues where it stopped
+        >>> bool(stable[-1])
+        True
+        """
         cdef cnp.ndarray[cnp.float64_t] out
         cdef cnp.ndarray[cnp.uint8_t] stable
         cdef cnp.ndarray[cnp.int16_t] stat
@@ -475,7 +607,7 @@ cdef class Chain:
         stable = np.empty(n, dtype=np.uint8)
         stat = np.empty(n if want else 1, dtype=np.int16)
         if n and not want:
-            # the batch entry points of csrc/sig_chain.c (same results as the step loop)
+            # the batch entry points of csrc/weigh/sig_chain.c (same results as the step loop)
             if self.fixed:
                 outq = np.empty(n, dtype=np.int32)
                 with nogil:

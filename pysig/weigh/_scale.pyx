@@ -1,5 +1,5 @@
 # cython: language_level=3
-"""Cython bridge to csrc/sig_scale.c: apply a stored scale calibration
+"""Cython bridge to csrc/weigh/sig_scale.c: apply a stored scale calibration
 (counts -> mass) over numpy arrays with the C code the firmware runs."""
 import numpy as np
 cimport numpy as cnp
@@ -30,7 +30,7 @@ INT32_MAX = (1 << 31) - 1
 
 cdef class ScaleQ16:
     """Fixed-point calibration: Q16.16 mass = floor((counts - offset) *
-    gain_mant / 2^gain_shift), saturated (see csrc/sig_scale.h)."""
+    gain_mant / 2^gain_shift), saturated (see csrc/include/sig_scale.h)."""
     cdef sig_scale_q16 s
     cdef readonly int offset, gain_mant, gain_shift
 

@@ -7,11 +7,11 @@ lc3..lc6 carry no load.  Source: GitHub mvsivaselvan/CIE324-Swing-Project
 
 analyse_loaded() calibrates counts -> lb on the plateaus it finds itself
 (pysig.weigh.scale), converts to kg (the chain's presets are in kg, as in the
-paper) and runs each configuration:
+weighing paper) and runs each configuration:
 
   raw          the calibrated samples themselves
-  paper_chain  Chain(preset="paper"): the paper's published parameters
-  kalman       the paper's plain Kalman filter (Q 1e-7, R 0.05, x0 1, P0 10)
+  paper_chain  Chain(preset="paper"): the weighing paper's published parameters
+  kalman       the weighing paper's plain Kalman filter (Q 1e-7, R 0.05, x0 1, P0 10)
   recommended  Chain(preset="recommended"): lock-out fix, motion-aware
                settling, zero tracking, thresholds from a fixed R
   auto         Chain(), the default: the same with every threshold

@@ -3,7 +3,7 @@
 - calibrate(): least-squares line counts -> mass from standard masses, with
   pysig.lsq.fit_poly (the same solver as the temperature fit), its linearity
   error and sensitivity.  The result applies itself in float and converts to
-  the fixed-point image that csrc/sig_scale.c applies on the MCU; it is
+  the fixed-point image that csrc/weigh/sig_scale.c applies on the MCU; it is
   stored as JSON (save / load_calibration) or a C header (c_header).
 - find_plateaus() / assign_nominal(): where a recording holds a load still,
   found from the data (no hand-picked indices), and which nominal level each
@@ -164,9 +164,42 @@ def saturated_count(value):
 def calibrate(counts, masses, unit="kg"):
     """Least-squares straight line mass(counts) through (counts[i], masses[i]).
 
-    `counts` are the mean readings at each standard mass (the paper averages
-    5 readings per mass), none at the 24-bit rails.  Needs at least 2
-    distinct masses."""
+    Parameters
+    ----------
+    counts : array_like
+        The mean reading at each standard mass (the weighing paper averages
+        5 readings per mass), ADC codes, none at the 24-bit rails.
+    masses : array_like
+        The standard masses, at least 2 distinct.
+    unit : str, optional
+        The masses' unit, carried into the result.
+
+    Returns
+    -------
+    Calibration
+        offset_counts, gain (unit per count), linearity error (% of full
+        scale), residual RMS; `to_mass` applies it, `fixed` gives the
+        firmware's integer form, `save` writes it as JSON.
+
+    Raises
+    ------
+    RangeError
+        `counts` and `masses` differ in length.
+    SaturationError
+        A reading at the converter's rails.
+    InsufficientDataError
+        Fewer than 2 distinct masses, or readings that do not change.
+
+    Examples
+    --------
+    >>> cal = calibrate([8390.0, 9890.0, 11390.0], [0.0, 10.0, 20.0])
+    >>> round(cal.counts_per_unit, 6), round(float(cal.to_mass(10640.0)), 6)
+    (150.0, 15.0)
+    >>> calibrate([1.0, 2.0], [5.0, 5.0])
+    Traceback (most recent call last):
+        ...
+    pysig.errors.InsufficientDataError: calibrate: a line needs at least 2 distinct masses, got 1
+    """
     counts = np.asarray(counts, dtype=float).ravel()
     masses = np.asarray(masses, dtype=float).ravel()
     if counts.size != masses.size:
@@ -201,7 +234,28 @@ class Plateau:
 
 def noise_sigma(x):
     """Robust per-sample noise: MAD of first differences / sqrt(2).  Isolated
-    glitches and load steps are a few differences out of many and do not move it."""
+    glitches and load steps are a few differences out of many and do not move it.
+
+    Parameters
+    ----------
+    x : array_like
+        A record, ideally of a still load.
+
+    Returns
+    -------
+    float
+        The noise standard deviation of one sample, in the record's unit
+        (its square is the R the weighing presets take).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = 5.0 + np.random.default_rng(1).normal(0.0, 0.1, 2000)
+    >>> x[500] += 40.0                     # one glitch
+    >>> x[1000:] += 20.0                   # one load step
+    >>> round(noise_sigma(x), 2)
+    0.1
+    """
     d = np.diff(np.asarray(x, dtype=float))
     return float(1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(2.0))
 

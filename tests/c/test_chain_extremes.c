@@ -1,5 +1,5 @@
 /* test_chain_extremes.c - the float weighing chain keeps a valid state for
- * any finite samples and any accepted parameters (issue 7 invariants: no
+ * any finite samples and any accepted parameters (the bad-input invariants: no
  * NaN in the Kalman state, P >= 0, output never NaN).  Found by
  * fuzz/fuzz_chain.c:
  *   1. huge finite samples of both signs (lock-out re-seed, or a huge A0):

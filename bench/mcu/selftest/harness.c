@@ -2,8 +2,8 @@
  * the simulator script reads back.  Inputs live in RAM (.data) so nothing
  * can be constant-folded. */
 #include <stdint.h>
-#include "../harness/bench_marks.h"   /* NOINLINE and the marker functions */
 #include "bench_funcs.h"
+#include "../harness/bench_marks.h"
 
 int32_t coef_q16[3] = { INT32_C(210371), INT32_C(-29930), INT32_C(806) };  /* 3.21, -0.4567, 0.0123 */
 int32_t x_q16 = INT32_C(1536819);                                          /* 23.45 */
@@ -18,6 +18,8 @@ float z_f = 101.5f;
 
 int32_t res_poly_q16, res_kf_q16, res_poly_n32, res_kf_n32;
 float res_poly_f, res_kf_f;
+
+/* The 8051 run stops at bench_done: the program has finished. */
 
 int main(void)
 {

@@ -2,6 +2,7 @@
 #include <stdint.h>
 #include "../harness/bench_marks.h"   /* NOINLINE and the marker functions */
 #include "bench_funcs.h"
+#include "../harness/bench_marks.h"
 #define N 8
 int32_t z[N] = { INT32_C(6651904), INT32_C(6619136), INT32_C(6684672), INT32_C(6553600),
                  INT32_C(6560000), INT32_C(6600000), INT32_C(6590000), INT32_C(6610000) };

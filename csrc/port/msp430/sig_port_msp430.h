@@ -1,4 +1,4 @@
-/* sig_port_msp430.h - csrc/sig_port.h hooks on the MSP430's 16x16 hardware
+/* sig_port_msp430.h - csrc/include/sig_port.h hooks on the MSP430's 16x16 hardware
  * multiplier, as plain C volatile accesses (no assembly).  A firmware build
  * selects it with
  *     -DSIG_PORT_HEADER='"sig_port_msp430.h"' -I bench/mcu/msp430

@@ -1,7 +1,7 @@
 """`pysig calibrate-scale READINGS.csv --mass kg --counts counts -o cal.json [--header cal.h] [--unit kg]`
 
 Least-squares scale calibration, counts -> mass, from readings at standard
-masses (one row per reading, or one mean per mass: the paper averages 5
+masses (one row per reading, or one mean per mass: the weighing paper averages 5
 readings per mass), with pysig.lsq, the same solver as the temperature fit.
 Prints the sensitivity and the linearity error; writes the calibration as
 JSON and, with --header, a C header with the arguments of sig_scale_init_q16

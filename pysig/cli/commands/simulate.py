@@ -1,6 +1,6 @@
 """`pysig simulate OUT.csv [--seed N] [--load-steps 0:0,5:30,20:0] [--noise-uv-rms 0.3] ...`
 
-A load-cell run as the paper's hardware would see it (pysig.sim.loadcell:
+A load-cell run as the weighing paper's hardware would see it (pysig.sim.loadcell:
 an L6D-like cell into a 24-bit ADS1232-like ADC), written as CSV with the
 columns t, counts, ref_kg.  Every disturbance is an option, off unless
 given; the same options and seed give the same file.  Feed the result to
