@@ -80,7 +80,7 @@ def _sources(folder, *patterns):
 
 def test_tests_and_benches_import_the_package_only():
     """Tests never load bench scripts, benches never load test helpers, and
-    neither edits sys.path: both run against the installed package."""
+    neither edits the module search path: both run against the installed package."""
     this = Path(__file__).resolve()
     tests = [p for p in _sources("tests", "*.py") if p.resolve() != this]
     benches = _sources("bench", "*.py")
@@ -94,6 +94,6 @@ def test_tests_and_benches_import_the_package_only():
              if loads_bench.search(p.read_text())]
     found += [f"{p.relative_to(ROOT)}: loads a test helper" for p in benches
               if loads_tests.search(p.read_text())]
-    found += [f"{p.relative_to(ROOT)}: edits sys.path" for p in tests + benches
+    found += [f"{p.relative_to(ROOT)}: edits the module search path" for p in tests + benches
               if edits_path.search(p.read_text())]
     assert found == []
