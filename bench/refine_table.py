@@ -1,4 +1,4 @@
-"""Issue 6's numbers: refine on data with an undeclared effect (does it name
+"""The refinement loop's numbers: refine on data with an undeclared effect (does it name
 the effect, by how much does the RMS fall), on clean data (how many seeds
 get something added), and on every real recording in ../shared/data (what
 it found, RMS before and after).

@@ -1,4 +1,4 @@
-"""The refinement loop on data with an undeclared effect (issue 6): it must
+"""The refinement loop on data with an undeclared effect: it must
 name the effect and cut the RMS at least 3x; clean data gets nothing added
 in at least 19 of 20 seeds; an effect outside the library is reported as
 unexplained and no named effect is claimed that does not lower the

@@ -1,5 +1,5 @@
 """refine on the project's simulators, each effect switched on while the fit
-is not told (issue 6).  The chamber simulator holds a constant field, so
+is not told.  The chamber simulator holds a constant field, so
 gain drift, cross-axis and nonlinearity are indistinguishable from offset
 there (refine reports them unavailable); those three are tested on a
 rotating field in test_refine.py.  The load-cell simulator carries creep and

@@ -1,5 +1,5 @@
 /* sig_effects.h - on-device forms of the effects pysig.refine can add to a
- * calibration model (issue 6): the firmware applies what refine found.
+ * calibration model: the firmware applies what refine found.
  *
  *   thermal_lag   first-order IIR on the temperature (sig_lag_*): the
  *                 lagged temperature then feeds the offset polynomial

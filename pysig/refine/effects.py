@@ -1,4 +1,4 @@
-"""Candidate effects of the refinement loop (issue 6): each a named family
+"""Candidate effects of the refinement loop: each a named family
 with its own parameters, turned into regressor columns of one linear model.
 
 The measurement model refine fits, in the sensor's own unit (LSB, counts):
@@ -31,10 +31,7 @@ from ..lsq import center_scale, fit_linear_model
 
 GRID_POINTS = 20
 
-try:
-    from . import _effects as _c_effects
-except ImportError:           # extension not built: the plain-Python loop below
-    _c_effects = None
+from . import _effects
 
 
 # ---- state primitives (float) ---------------------------------------------
@@ -56,21 +53,13 @@ def play_operator(x, width, start=0):
     `width` away from it; x - p lies in [-width, width] and is +width while
     heating, -width while cooling: the hysteresis branch state.  `start`
     (+1 heating, -1 cooling, 0 neither) is the branch before the first
-    sample: p[0] = x[0] - start * width."""
-    if _c_effects is not None:     # the firmware's own float form (csrc/sig_effects.c), fast
-        branch, _, _ = _c_effects.hyst_f(x, float(width), 0.0, int(start))
-        return np.asarray(x, dtype=float) - branch
-    xs = np.asarray(x, dtype=float).tolist()
-    out = [0.0] * len(xs)
-    p = xs[0] - start * float(width)
-    w = float(width)
-    for i, v in enumerate(xs):
-        if v - p > w:
-            p = v - w
-        elif p - v > w:
-            p = v + w
-        out[i] = p
-    return np.asarray(out)
+    sample: p[0] = x[0] - start * width.
+
+    One implementation: the firmware's float form (sig_hyst_step_f in
+    csrc/refine/sig_effects.c) through Cython; its spec is
+    pysig.reference.effects.HystF."""
+    branch, _, _ = _effects.hyst_f(x, float(width), 0.0, int(start))
+    return np.asarray(x, dtype=float) - branch
 
 
 # ---- the data a model is fitted to ------------------------------------------

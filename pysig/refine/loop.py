@@ -1,4 +1,4 @@
-"""The refinement loop (issue 6): fit the base model, look at the residual,
+"""The refinement loop: fit the base model, look at the residual,
 add the candidate effect that most lowers the out-of-sample error, repeat
 while the gain is significant, and say when structure is left that no
 candidate explains.
