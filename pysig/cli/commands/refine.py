@@ -154,7 +154,7 @@ def run(args):
     if args.json:
         doc = reports[measured[0]] if len(measured) == 1 else {"columns": reports}
         doc = dict(doc)
-        doc["stopping_test"] = rf.STOP_TEST.format(tb=opts.test_blocks, a=opts.alpha, g=opts.min_gain)
+        doc["stopping_test"] = rf.stop_test(opts)
         with atomic_output(args.json) as fh:
             json.dump(doc, fh, indent=2, default=_json_default)
             fh.write("\n")
