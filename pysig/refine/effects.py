@@ -392,6 +392,7 @@ class FittedModel:
     names: list
     prediction: np.ndarray
     residual: np.ndarray      # y - prediction (all samples; score only on mask)
+    design: np.ndarray = None
 
     def rms(self, mask):
         return float(np.sqrt(np.mean(self.residual[mask] ** 2)))
@@ -409,7 +410,7 @@ def fit(data, spec, rows=None):
             f"refine: {X.shape[1]} parameters need at least as many samples, got {int(rows.sum())}")
     beta, _ = fit_linear_model(X[rows], data.y[rows], what="refine")
     pred = X @ beta
-    return FittedModel(spec, beta, names, pred, data.y - pred)
+    return FittedModel(spec, beta, names, pred, data.y - pred, X)
 
 
 def fit_param(data, spec, family, variant):

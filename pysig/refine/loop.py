@@ -560,7 +560,7 @@ def refine(data, opts=None):
                 tried.append((rms(e_new), name, v, e_new, trial))
         if opts.shape and not shaped:
             # the best larger offset (one candidate: the size chosen by CV)
-            shapes = [(rms(e), params, e, s) for params, s in shape_trials(data, model.spec)
+            shapes = [(rms(e), params, e, s) for params, s in shape_trials(data, model)
                       for e in [cv_residual(data, s, opts)]]
             if shapes:
                 c, params, e_new, s = min(shapes, key=lambda x: x[0])
@@ -588,6 +588,12 @@ def refine(data, opts=None):
             params["coefficients"] = {k: v for k, v in new_model.coefficients().items()
                                       if k.startswith(name + ":")}
         e_cv_new = cv_residual(data, new_model.spec, opts)   # CV of the model actually kept
+        if not rms(e_cv_new) < cv_old:
+            # the per-fold parameter choice won, the model as kept does not
+            rejected = [{"effect": name, "variant": variant, "cv_rms": rms(e_cv_new),
+                         "cv_rms_now": cv_old, "cv_gain": 1.0 - rms(e_cv_new) / cv_old,
+                         **verdict, "kept_model_cv_worse": True}]
+            break
         steps.append(Step(name, params, model.rms(data.mask), new_model.rms(data.mask),
                           cv_old, rms(e_cv_new), verdict["p_value"], summary,
                           verdict["cv_systematic_now"],

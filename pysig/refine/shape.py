@@ -2,10 +2,20 @@
 temperature has structure a low-order polynomial cannot follow (a gyro
 offset that rises and falls), a larger polynomial or a piecewise-linear
 table (pysig.tcomp.pwl's hat basis, what firmware evaluates by lookup) may
-remove it.  Each is a replacement of the base offset, scored by the same
-blocked CV and the same rules as an effect."""
+remove it.
+
+The size of each family is chosen as the compensation fit chooses it
+(pysig.tcomp.model_select: blocked CV over temperature, the smallest size
+within 5 % of the best) on the offset part of the current model (its
+residual plus its offset term).  The loop then scores the two candidates,
+as replacements of the base offset, by its own time-blocked CV and
+applies the same rules as to an effect."""
+import warnings
+
 import numpy as np
 
+from ..errors import InsufficientDataError, RangeError
+from ..tcomp.model_select import choose, score_sizes
 from ..tcomp.pwl import hat_basis
 
 MAX_POLY_ORDER = 8
@@ -24,20 +34,44 @@ def knots_supported(data, n_knots):
     return bool(np.all(weight >= 1.0))
 
 
-def shape_trials(data, spec):
-    """Larger base offsets than `spec`'s: [(params, spec)], params naming
-    the family and size.  None without temperature."""
-    if data.T is None:
+def offset_part(model):
+    """The current model's offset in temperature plus its residual: what a
+    new offset shape has to follow."""
+    cols = [j for j, nm in enumerate(model.names)
+            if nm == "const" or nm.startswith("u^") or nm.startswith("table:")]
+    return model.residual + model.design[:, cols] @ model.beta[cols]
+
+
+def _chosen(family, sizes, T, y):
+    if not sizes:
+        return None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return choose(score_sizes(family, sizes, T, y)).size
+    except (InsufficientDataError, RangeError):
+        return None
+
+
+def shape_trials(data, model):
+    """Larger base offsets than `model`'s: [(params, spec)], params naming
+    the family and size (at most one polynomial and one table).  Empty
+    without temperature."""
+    spec = model.spec
+    if data.T is None or np.unique(data.T[data.mask]).size < 4:
         return []
-    distinct = np.unique(data.T[data.mask]).size
+    T, y = data.T[data.mask], offset_part(model)[data.mask]
+    distinct = np.unique(T).size
     out = []
     if spec.base_family == "poly":
-        for order in range(spec.base_order + 1, min(MAX_POLY_ORDER, distinct - 1) + 1):
+        orders = list(range(spec.base_order + 1, min(MAX_POLY_ORDER, distinct - 1) + 1))
+        order = _chosen("poly", orders, T, y)
+        if order is not None:
             out.append(({"family": "poly", "order": order}, spec.with_base("poly", order)))
     current = spec.base_order if spec.base_family == "table" else 0
-    for k in TABLE_KNOTS:
-        if k > current and knots_supported(data, k):
-            out.append(({"family": "table", "knots": k}, spec.with_base("table", k)))
+    knots = _chosen("pwl", [k for k in TABLE_KNOTS if k > current and knots_supported(data, k)], T, y)
+    if knots is not None:
+        out.append(({"family": "table", "knots": knots}, spec.with_base("table", knots)))
     return out
 
 
