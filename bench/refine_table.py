@@ -24,7 +24,7 @@ from pysig.io import read_csv  # noqa: E402
 from pysig.refine.loop import plateau_reference, refine  # noqa: E402
 from pysig.sim.chamber import ChamberParams, simulate as sim_chamber  # noqa: E402
 from pysig.sim.loadcell import simulate as sim_loadcell  # noqa: E402
-from pysig.sim.refine_cases import chamber_run, fit_data  # noqa: E402
+from pysig.sim.refine_cases import chamber_run, fit_data, loadcell_creep_run  # noqa: E402
 
 DATA = os.path.join(HERE, "..", "..", "shared", "data")
 LOADS = ((0.0, 0.0), (20.0, 5.0), (80.0, 10.0), (150.0, 20.0), (220.0, 10.0),
@@ -55,6 +55,14 @@ def injected_cases():
     # other; the simulator's branch follows the chamber, not the lagged die
     yield "sim_chamber thermal_lag_s=400 + hysteresis 24 LSB", "thermal_lag+hysteresis", \
         ch(seed=0, thermal_lag_s=400.0, hysteresis_lsb=(24.0,) * 3)
+    for seed, loads in ((0, (0.0, 50.0, 0.0, 50.0)), (1, (0.0, 30.0, 0.0, 45.0))):
+        r = loadcell_creep_run(seed=seed, loads=loads, hold_s=1200.0 if seed == 0 else 900.0)
+        yield (f"HX711-like creep 0.04 %, 300 s, noise 25, 0.2 % impulses 2k-20k, loads {loads}",
+               "creep", fx.FitData(y=r["counts"], t=r["t"], r=r["ref_kg"]))
+    r = sim_chamber(ChamberParams(seed=0, sample_rate_hz=0.5, temp_noise_c=0.15, noise_lsb=1.0,
+                                  profile="ramp", thermal_lag_s=300.0))
+    yield "sim_chamber thermal_lag_s=300, temperature noise 0.15 °C every 2 s", "thermal_lag", \
+        fx.FitData(y=r["x"], t=r["t"], T=r["temp"], r=r["ref_x"])
     yield "synthetic: step in time (outside library)", "(none: step)", fit_data(chamber_run("step", seed=0))
     yield "sim_loadcell zero random walk (outside library)", "(none: drift)", lc(seed=3, drift_rw_uv=0.05)
 
@@ -72,8 +80,14 @@ def clean_cases():
     yield "sim_chamber ramp, constant field", ch
     yield "sim_loadcell steps", lc
 
+    def noisy_t(seed):
+        r = sim_chamber(ChamberParams(seed=seed, sample_rate_hz=0.5, temp_noise_c=0.15, noise_lsb=1.0,
+                                      profile="ramp"))
+        return fx.FitData(y=r["x"], t=r["t"], T=r["temp"], r=r["ref_x"])
+    yield "sim_chamber ramp, temperature noise 0.15 °C every 2 s, noise 1 LSB", noisy_t
 
-def real_cases():
+
+def real_cases(DATA=DATA):
     hx = os.path.join(DATA, "hx711_steps_10hz", "hx711_steps_10hz.csv")
     if os.path.exists(hx):
         d = read_csv(hx, ["t_s", "lc1_counts", "lc2_counts"])
@@ -95,14 +109,23 @@ def real_cases():
         for col in cols[1:]:
             y = np.concatenate([a[col], b[col]])
             yield f"bmi270 {col} (cold + hot files joined)", fx.FitData(
-                y=y, t=np.arange(y.size, dtype=float), T=np.concatenate([a["temp_c"], b["temp_c"]]))
+                y=y, t=np.arange(y.size, dtype=float), T=np.concatenate([a["temp_c"], b["temp_c"]]),
+                segments=(0, a[col].size))
 
 
 def row(label, res, injected=None, seconds=0.0):
     rep = res.report()
     u = rep["unexplained"]
+    b, a = rep["before"], rep["after"]
     return {"case": label, "injected": injected,
-            "found": [s["effect"] for s in rep["steps"]],
+            "found": [s["effect"] if s["effect"] != "offset_shape" else f"offset_shape: {rep['final_offset']}"
+                      for s in rep["steps"]],
+            "impulses": rep["impulses"]["count"],
+            "robust_rms": [b["rms"], a["rms"]], "plain_rms": [b["plain_rms"], a["plain_rms"]],
+            "averaged_rms": [b["averaged_rms"], a["averaged_rms"]],
+            "systematic_rms": [b["systematic_rms"], a["systematic_rms"]],
+            "report_s": rep["report_s"],
+            "not_claimed": sorted({r["effect"] for r in rep["not_claimed"]}),
             "params": [{k: v for k, v in s["params"].items() if k != "coefficients"} for s in rep["steps"]],
             "base_rms": rep["base_rms"], "final_rms": rep["final_rms"],
             "ratio": rep["base_rms"] / rep["final_rms"],
@@ -114,8 +137,10 @@ def row(label, res, injected=None, seconds=0.0):
 
 def fmt(r):
     found = ", ".join(r["found"]) or "nothing"
-    return (f"| {r['case']} | {r['injected'] or '-'} | {found} | {r['base_rms']:.4g} | "
-            f"{r['final_rms']:.4g} | {r['ratio']:.2f}x | {'yes' if r['unexplained'] else 'no'} |")
+    rb, pb, ab = r["robust_rms"], r["plain_rms"], r["averaged_rms"]
+    return (f"| {r['case']} | {r['injected'] or '-'} | {found} | {r['impulses']} | "
+            f"{rb[0]:.4g} -> {rb[1]:.4g} | {pb[0]:.4g} -> {pb[1]:.4g} | {ab[0]:.4g} -> {ab[1]:.4g} | "
+            f"{rb[0] / rb[1]:.2f}x | {'yes' if r['unexplained'] else 'no'} |")
 
 
 def main(argv=None):
@@ -123,9 +148,11 @@ def main(argv=None):
     ap.add_argument("--json", help="write the rows as JSON")
     ap.add_argument("--clean-seeds", type=int, default=20)
     ap.add_argument("--skip-injected", action="store_true")
+    ap.add_argument("--data", default=DATA, help="the shared recordings (default ../shared/data)")
     args = ap.parse_args(argv)
     out = {"injected": [], "clean": {}, "real": []}
-    head = "| case | injected | refine added | RMS before | RMS after | ratio | unexplained |\n|---|---|---|---|---|---|---|"
+    head = ("| case | injected | refine added | impulses | robust RMS | plain RMS | RMS of 10-s reading | "
+            "ratio (robust) | unexplained |\n|---|---|---|---|---|---|---|---|---|")
     if not args.skip_injected:
         print(head)
         for label, inj, data in injected_cases():
@@ -146,7 +173,7 @@ def main(argv=None):
             print(f"clean, {label}: nothing added in {n_clean} of {args.clean_seeds} seeds", flush=True)
         print()
     print(head)
-    for label, data in real_cases():
+    for label, data in real_cases(args.data):
         t0 = time.perf_counter()
         res = refine(data)
         r = row(label, res, None, time.perf_counter() - t0)
