@@ -516,12 +516,27 @@ def judge(e_old, e_new, opts, per_report, n_tried):
 
 
 def refine(data, opts=None):
-    """Run the loop on one measured column.  Returns a Result."""
+    """Run the loop on one measured column.  Returns a Result.
+
+    Impulses are screened on the base model's residual; when the refined
+    model's residual screens differently (structure the base model lacked
+    looked like spikes to the running median), the loop runs once more
+    with the screening of the refined residual."""
     opts = opts or Options()
     if data.mask.sum() < 3 * opts.folds:
         raise InsufficientDataError(
             f"refine: {int(data.mask.sum())} usable samples; need at least {3 * opts.folds}")
-    data, used, impulses = screen_impulses(data, opts)
+    screened, used, impulses = screen_impulses(data, opts)
+    result = _loop(screened, used, impulses, opts)
+    if opts.impulse_k is None or not result.steps:
+        return result
+    again = robust.impulse_mask(result.final.residual, used, opts.impulse_k)
+    if np.array_equal(again, impulses):
+        return result
+    return _loop(replace(data, mask=used & ~again), used, again, opts)
+
+
+def _loop(data, used, impulses, opts):
     per_report = robust.samples_per_report(data.dt, opts.report_s)
     t_sigma = robust.white_sigma(np.where(data.mask, data.T, np.nan)) if data.T is not None else 0.0
     order, order_cv = choose_base_order(data, opts)
