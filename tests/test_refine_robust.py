@@ -122,3 +122,14 @@ def test_systematic_part_of_white_noise_is_small():
     assert robust.systematic_rms(e, 100) < 0.03
     drift = e + 0.5 * np.sin(np.arange(e.size) / 800.0)
     assert 0.3 < robust.systematic_rms(drift, 100) < 0.4     # 0.5 / sqrt(2)
+
+
+def test_warm_up_transient_alone_is_named():
+    """8 LSB decaying with tau 300 s after power-on, the chamber holding 0 °C
+    for the first 300 s; nothing else injected."""
+    from pysig.sim.refine_cases import WARM_UP_TAU_S, chamber_run, fit_data
+    res = refine(fit_data(chamber_run("warm_up", seed=12)))
+    assert [s.effect for s in res.steps] == ["warm_up"], res.report()["not_added"]
+    assert 0.5 * WARM_UP_TAU_S < res.steps[0].params["tau_s"] < 1.5 * WARM_UP_TAU_S
+    rep = res.report()
+    assert rep["before"]["averaged_rms"] >= 2.0 * rep["after"]["averaged_rms"]

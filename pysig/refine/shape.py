@@ -7,7 +7,7 @@ remove it.
 The size of each family is chosen as the compensation fit chooses it
 (pysig.tcomp.model_select: blocked CV over temperature, the smallest size
 within 5 % of the best) on the offset part of the current model (its
-residual plus its offset term).  The loop then scores the two candidates,
+residual plus its offset term), averaged into at most 200 temperature bins.  The loop then scores the two candidates,
 as replacements of the base offset, by its own time-blocked CV and
 applies the same rules as to an effect."""
 import warnings
@@ -15,12 +15,13 @@ import warnings
 import numpy as np
 
 from ..errors import InsufficientDataError, RangeError
-from ..tcomp.model_select import choose, score_sizes
+from ..tcomp.model_select import bin_by_temperature, choose, score_sizes
 from ..tcomp.pwl import hat_basis
 
 MAX_POLY_ORDER = 8
 TABLE_KNOTS = (6, 8, 12, 16, 24, 32, 48)
 MIN_SAMPLES_PER_KNOT = 3       # distinct temperatures per knot, so a knot is determined
+SIZE_BINS = 200                # the size is chosen on at most this many temperature bins
 
 
 def knots_supported(data, n_knots):
@@ -62,6 +63,9 @@ def shape_trials(data, model):
         return []
     T, y = data.T[data.mask], offset_part(model)[data.mask]
     distinct = np.unique(T).size
+    if distinct > SIZE_BINS:    # a curve, as the compensation fit sees a time series
+        curve = bin_by_temperature(T, y, ("offset",), float(np.ptp(T)) / SIZE_BINS)
+        T, y = curve.temp, curve.values[:, 0]
     out = []
     if spec.base_family == "poly":
         orders = list(range(spec.base_order + 1, min(MAX_POLY_ORDER, distinct - 1) + 1))

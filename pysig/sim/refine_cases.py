@@ -12,6 +12,7 @@ from pysig.refine import effects as fx
 PROFILE = ((300, 0.0), (500, 50.0), (300, 50.0), (800, 10.0), (300, 10.0),
            (150, 40.0), (300, 40.0), (400, 0.0), (250, 0.0))
 EFFECTS = ("gain_drift", "thermal_lag", "hysteresis", "nonlinearity", "cross_axis")
+WARM_UP_TAU_S = 300.0          # the "warm_up" case: 8 LSB decaying after power-on
 
 
 def temperature_profile(dt=1.0, start=0.0):
@@ -50,9 +51,11 @@ def chamber_run(effect=None, seed=0, noise=1.0, t_noise=0.02, dt=2.0, constant_f
         y += 2e-4 * r ** 2
     if "cross_axis" in names:
         y += 0.03 * ry - 0.02 * rz
+    if "warm_up" in names:
+        y += 8.0 * np.exp(-t / WARM_UP_TAU_S)
     if "step" in names:
         y += np.where(t > t[-1] * 0.55, 8.0, 0.0)
-    unknown = set(names) - set(EFFECTS) - {None, "step"}
+    unknown = set(names) - set(EFFECTS) - {None, "step", "warm_up"}
     if unknown:
         raise ValueError(unknown)
     y = y + noise * rng.standard_normal(n)
