@@ -43,6 +43,10 @@ def device_model(result, t0_c=25.0):
     data, model = result.data, result.final
     if data.T is None or model.spec.base_order < 1:
         raise RangeError("device_model: the refined model has no temperature polynomial")
+    if model.spec.base_family != "poly":
+        raise RangeError(f"device_model: the refined offset is a {model.spec.describe_base()}; "
+                         "the refined image carries a polynomial offset (export a table with "
+                         "pysig.tcomp.pwl's image)")
     coefs = model.coefficients()
     a = np.array([0.0] + [coefs[f"u^{k}"] for k in range(1, model.spec.base_order + 1)])
     sc = choose_scaling(int(to_centi(np.min(data.T))), int(to_centi(np.max(data.T))))
