@@ -49,6 +49,7 @@ def injected_cases():
     yield "sim_loadcell nonlinearity 0.05 % FS", "nonlinearity", lc(nonlinearity_frac_fs=0.0005)
     for eff in ("gain_drift", "cross_axis", "nonlinearity", "thermal_lag", "hysteresis"):
         yield f"synthetic rotating field: {eff}", eff, fit_data(chamber_run(eff, seed=0))
+    yield "synthetic: warm-up 8 LSB, tau 300 s after power-on", "warm_up", fit_data(chamber_run("warm_up", seed=0))
     yield "synthetic: thermal_lag + hysteresis", "thermal_lag+hysteresis", \
         fit_data(chamber_run(("thermal_lag", "hysteresis"), seed=0))
     # a lag and a hysteresis on the simulator's constant-rate ramp imitate each
