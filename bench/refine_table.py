@@ -26,8 +26,10 @@ DATA = os.path.join(HERE, "..", "..", "shared", "data")
 
 def fmt(r):
     found = ", ".join(r["found"]) or "nothing"
-    return (f"| {r['case']} | {r['injected'] or '-'} | {found} | {r['base_rms']:.4g} | "
-            f"{r['final_rms']:.4g} | {r['ratio']:.2f}x | {'yes' if r['unexplained'] else 'no'} |")
+    rb, pb, ab = r["robust_rms"], r["plain_rms"], r["averaged_rms"]
+    return (f"| {r['case']} | {r['injected'] or '-'} | {found} | {r['impulses']} | "
+            f"{rb[0]:.4g} -> {rb[1]:.4g} | {pb[0]:.4g} -> {pb[1]:.4g} | {ab[0]:.4g} -> {ab[1]:.4g} | "
+            f"{rb[0] / rb[1]:.2f}x | {'yes' if r['unexplained'] else 'no'} |")
 
 
 def main(argv=None):
@@ -35,10 +37,11 @@ def main(argv=None):
     ap.add_argument("--json", help="write the rows as JSON")
     ap.add_argument("--clean-seeds", type=int, default=20)
     ap.add_argument("--skip-injected", action="store_true")
-    ap.add_argument("--data", default=DATA, help="folder of recordings (default ../shared/data)")
+    ap.add_argument("--data", default=DATA, help="the shared recordings (default ../shared/data)")
     args = ap.parse_args(argv)
     out = {"injected": [], "clean": {}, "real": []}
-    head = "| case | injected | refine added | RMS before | RMS after | ratio | unexplained |\n|---|---|---|---|---|---|---|"
+    head = ("| case | injected | refine added | impulses | robust RMS | plain RMS | RMS of 10-s reading | "
+            "ratio (robust) | unexplained |\n|---|---|---|---|---|---|---|---|---|")
     if not args.skip_injected:
         print(head)
         for label, inj, data in injected_cases():

@@ -1,4 +1,4 @@
-"""`pysig refine` end to end: printed table, JSON report with the documented
+"""`pysig refine` end to end: printed table, JSON report with the required
 keys, PNGs; bad input gives the error's exit status and no output file."""
 import json
 

@@ -1,7 +1,8 @@
 """From a refined model to the firmware: fixed-point parameters of the
 effects refine added, their coefficient-image sections, and the refined
-correction evaluated three ways (float model, Python fixed-point reference,
-C through Cython) so tests can hold them together.
+correction evaluated two ways (float model, and the firmware's fixed-point
+C through Cython); tests hold the C against the Python fixed-point spec
+(pysig.reference.effects.RefinedQ), which the library never imports.
 
 Image section payloads (little-endian; ids reserved in csrc/include/sig_image.h):
   2 GAIN_POLY     u8 order, 3 x u8 reserved (0), (order+1) x i32 coef Q16.16,
@@ -22,7 +23,6 @@ from . import effects as fx
 from ..errors import ModelFileError, RangeError
 from ..store.image import build_image, find_section
 from ..tcomp.quant import choose_scaling, quantize_axis, to_centi
-from ..reference import effects as ref
 
 SECTION_OFFSET_POLY = 1
 SECTION_GAIN_POLY = 2
@@ -43,6 +43,10 @@ def device_model(result, t0_c=25.0):
     data, model = result.data, result.final
     if data.T is None or model.spec.base_order < 1:
         raise RangeError("device_model: the refined model has no temperature polynomial")
+    if model.spec.base_family != "poly":
+        raise RangeError(f"device_model: the refined offset is a {model.spec.describe_base()}; "
+                         "the refined image carries a polynomial offset (export a table with "
+                         "pysig.tcomp.pwl's image)")
     coefs = model.coefficients()
     a = np.array([0.0] + [coefs[f"u^{k}"] for k in range(1, model.spec.base_order + 1)])
     sc = choose_scaling(int(to_centi(np.min(data.T))), int(to_centi(np.max(data.T))))
@@ -86,14 +90,6 @@ def correct_float(dev, temp_c, y):
         h = dev["hyst_float"]
         out -= h["h"] * (T - fx.play_operator(T, h["width"], h["start"])) / h["width"]
     return out
-
-
-def correct_reference(dev, t_centi, y):
-    """Python fixed-point reference (pysig.reference.effects.RefinedQ):
-    corrected readings in Q16.16 LSB and status per sample."""
-    r = ref.RefinedQ(dev["offset"], dev["lag"], dev["hyst"])
-    out = [r.step(int(t), int(v)) for t, v in zip(t_centi, y)]
-    return np.array([o for o, _ in out], dtype=np.int64), np.array([s for _, s in out])
 
 
 def correct_c(dev, t_centi, y):

@@ -31,10 +31,7 @@ from ..lsq import center_scale, fit_linear_model
 
 GRID_POINTS = 20
 
-try:
-    from . import _effects as _c_effects
-except ImportError:           # extension not built: the plain-Python loop below
-    _c_effects = None
+from . import _effects
 
 
 # ---- state primitives (float) ---------------------------------------------
@@ -56,21 +53,13 @@ def play_operator(x, width, start=0):
     `width` away from it; x - p lies in [-width, width] and is +width while
     heating, -width while cooling: the hysteresis branch state.  `start`
     (+1 heating, -1 cooling, 0 neither) is the branch before the first
-    sample: p[0] = x[0] - start * width."""
-    if _c_effects is not None:     # the firmware's own float form (csrc/refine/sig_effects.c), fast
-        branch, _, _ = _c_effects.hyst_f(x, float(width), 0.0, int(start))
-        return np.asarray(x, dtype=float) - branch
-    xs = np.asarray(x, dtype=float).tolist()
-    out = [0.0] * len(xs)
-    p = xs[0] - start * float(width)
-    w = float(width)
-    for i, v in enumerate(xs):
-        if v - p > w:
-            p = v - w
-        elif p - v > w:
-            p = v + w
-        out[i] = p
-    return np.asarray(out)
+    sample: p[0] = x[0] - start * width.
+
+    One implementation: the firmware's float form (sig_hyst_step_f in
+    csrc/refine/sig_effects.c) through Cython; its spec is
+    pysig.reference.effects.HystF."""
+    branch, _, _ = _effects.hyst_f(x, float(width), 0.0, int(start))
+    return np.asarray(x, dtype=float) - branch
 
 
 # ---- the data a model is fitted to ------------------------------------------
@@ -87,6 +76,7 @@ class FitData:
     mask: np.ndarray = None
     labels: dict = field(default_factory=dict)   # units/names for reports
     ref_from_y: bool = False      # reference built from y itself (plateau levels)
+    segments: tuple = (0,)        # first sample of each power-on (files joined end to end)
 
     def __post_init__(self):
         self.y = np.asarray(self.y, dtype=float)
@@ -106,6 +96,7 @@ class FitData:
             self.r_center, self.r_scale = center_scale(self.r)
             self.r_abs = float(np.max(np.abs(self.r))) or 1.0
         self.others = {k: np.asarray(v, dtype=float) for k, v in self.others.items()}
+        self.segments = tuple(sorted({0, *(int(i) for i in self.segments if 0 <= int(i) < n)}))
 
     @property
     def n(self):
@@ -260,6 +251,28 @@ class Creep(Family):
         return ((z - data.r) / data.r_abs)[:, None], ["lag(r)-r"]
 
 
+class WarmUp(Family):
+    """A transient in time since power-on, at any temperature: one
+    w_s * exp(-(t - t_s) / tau) column per power-on segment s (files joined
+    end to end are separate power-ons), zero before the segment starts."""
+    name = "warm_up"
+    param_name = "tau_s"
+
+    def bounds(self, data):
+        return data.dt * 0.5, max(data.dt * 2.0, data.span_t / 3.0)
+
+    def grid(self, data):
+        lo, hi = self.bounds(data)
+        return list(np.geomspace(lo, hi, GRID_POINTS))
+
+    def columns(self, data, T_used, effect):
+        starts = list(data.segments) + [data.n]
+        cols = np.zeros((data.n, len(data.segments)))
+        for j, (a, b) in enumerate(zip(starts[:-1], starts[1:])):
+            cols[a:b, j] = np.exp(-(data.t[a:b] - data.t[a]) / effect.param)
+        return cols, [f"exp(-t/tau)@{a}" for a in data.segments]
+
+
 class Nonlinearity(Family):
     """Higher order in the measured quantity: u_r^k, k = 2..order."""
     name = "nonlinearity"
@@ -298,19 +311,36 @@ class CrossAxis(Family):
 
 
 FAMILIES = {f.name: f for f in (GainDrift(), ThermalLag(), Hysteresis(), Creep(),
-                                Nonlinearity(), CrossAxis())}
+                                Nonlinearity(), CrossAxis(), WarmUp())}
 
 
 # ---- the model: base + effects ------------------------------------------------
 
 @dataclass
 class ModelSpec:
-    """Base offset order (0 when there is no temperature) and the effects."""
+    """Base offset in temperature and the effects.  `base_family` "poly":
+    a polynomial of order `base_order` in u(T') (0: no temperature term);
+    "table": a piecewise-linear table of `base_order` uniform knots over the
+    calibrated range, flat outside it (pysig.tcomp.pwl's hat basis, what
+    the firmware's table lookup evaluates)."""
     base_order: int
     effects: tuple = ()
+    base_family: str = "poly"
 
     def with_effect(self, effect):
-        return ModelSpec(self.base_order, tuple(self.effects) + (effect,))
+        return ModelSpec(self.base_order, tuple(self.effects) + (effect,), self.base_family)
+
+    def with_base(self, family, size):
+        return ModelSpec(int(size), tuple(self.effects), family)
+
+    def without(self, name):
+        return ModelSpec(self.base_order, tuple(e for e in self.effects if e.name != name),
+                         self.base_family)
+
+    def describe_base(self):
+        if self.base_family == "table":
+            return f"table, {self.base_order} knots"
+        return f"polynomial, order {self.base_order}"
 
     def names(self):
         return [e.name for e in self.effects]
@@ -326,14 +356,23 @@ def temperature_used(data, spec):
     return T
 
 
+TABLE_PREFIX = "table:"
+
+
 def design(data, spec):
     """Design matrix (n, p) and column names of `spec` on `data`."""
-    cols, names = [np.ones(data.n)], ["const"]
+    table = spec.base_family == "table" and data.T is not None
+    cols, names = ([], []) if table else ([np.ones(data.n)], ["const"])
+    T_used = temperature_used(data, spec) if data.T is not None else None
+    if table:                 # the hats sum to one: they carry the constant
+        from ..tcomp.pwl import hat_basis
+        hats = hat_basis(data.u_T(T_used), np.linspace(-1.0, 1.0, spec.base_order))
+        cols.extend(hats.T)
+        names.extend(f"{TABLE_PREFIX}{j}" for j in range(spec.base_order))
     if data.has_ref:
         cols.append(data.r / data.r_abs)
         names.append("r")
-    T_used = temperature_used(data, spec) if data.T is not None else None
-    if T_used is not None:
+    if T_used is not None and not table:
         u = data.u_T(T_used)
         for k in range(1, spec.base_order + 1):
             cols.append(u ** k)
@@ -353,6 +392,7 @@ class FittedModel:
     names: list
     prediction: np.ndarray
     residual: np.ndarray      # y - prediction (all samples; score only on mask)
+    design: np.ndarray = None
 
     def rms(self, mask):
         return float(np.sqrt(np.mean(self.residual[mask] ** 2)))
@@ -370,7 +410,7 @@ def fit(data, spec, rows=None):
             f"refine: {X.shape[1]} parameters need at least as many samples, got {int(rows.sum())}")
     beta, _ = fit_linear_model(X[rows], data.y[rows], what="refine")
     pred = X @ beta
-    return FittedModel(spec, beta, names, pred, data.y - pred)
+    return FittedModel(spec, beta, names, pred, data.y - pred, X)
 
 
 def fit_param(data, spec, family, variant):

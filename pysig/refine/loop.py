@@ -26,7 +26,7 @@ across contiguous time blocks (scipy.stats.f_oneway) for a trend against
 time.  `unexplained` is true when Ljung-Box p < 1e-3 and the structure is
 material: lag-1 autocorrelation >= 0.2 or the time blocks carry >= 10 % of
 the residual variance.  It is never attributed to a named effect."""
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy import stats
@@ -34,6 +34,8 @@ import statsmodels.api as sm
 from statsmodels.stats.diagnostic import acorr_ljungbox
 
 from . import effects as fx
+from . import robust
+from .shape import shape_trials
 from ..errors import InsufficientDataError
 from ..lsq import fit_linear_model
 
@@ -46,6 +48,10 @@ LB_P = 1e-3
 ACF1_MATERIAL = 0.2
 TIME_R2_MATERIAL = 0.10
 EDGE_LOG_MARGIN = 0.05         # within 5 % of the top of a parameter's search range
+DEFAULT_REPORT_S = 10.0        # a reported reading averages this long
+DEFAULT_MATERIAL = 0.5         # removed systematic error, in units of a reported reading's noise
+MIN_TAU_PERIODS = 3.0          # a shorter time constant only smooths noise
+MIN_WIDTH_NOISE = 3.0          # a narrower play operator only smooths the temperature's noise
 
 
 @dataclass
@@ -57,6 +63,10 @@ class Options:
     min_gain: float = DEFAULT_MIN_GAIN
     max_steps: int = 6
     families: tuple = tuple(fx.FAMILIES)
+    report_s: float = DEFAULT_REPORT_S      # time a reported reading averages over
+    material: float = DEFAULT_MATERIAL
+    impulse_k: float = robust.HAMPEL_K      # None: no impulse screening
+    shape: bool = True                      # try a larger polynomial or a table for the offset
 
 
 # ---- blocked cross-validation --------------------------------------------------
@@ -73,6 +83,35 @@ def fold_rows(n, folds, gap):
     return out
 
 
+def bridge_rows(X_train, names):
+    """Rows tying the table knots the training rows do not determine (a
+    held-out block falls between them) to their neighbours by a zero second
+    difference, so the table is linear across the gap, as interpolating
+    firmware would be (pysig.tcomp.pwl bridges the same way).  Returns
+    (rows, zeros) to stack under the training design, or None."""
+    idx = [j for j, nm in enumerate(names) if nm.startswith(fx.TABLE_PREFIX)]
+    if len(idx) < 3:
+        return None
+    weight = X_train[:, idx].sum(axis=0)
+    weak = [k for k in range(len(idx)) if weight[k] < 0.5]
+    if not weak:
+        return None
+    rows = np.zeros((len(weak), X_train.shape[1]))
+    for r, k in enumerate(weak):
+        c = min(max(k, 1), len(idx) - 2)
+        rows[r, idx[c - 1]], rows[r, idx[c]], rows[r, idx[c + 1]] = 1.0, -2.0, 1.0
+    return rows, np.zeros(len(weak))
+
+
+def fit_rows(X, y, rows, names):
+    """Least squares of X[rows] on y[rows], table knots bridged (bridge_rows)."""
+    Xt, yt = X[rows], y[rows]
+    extra = bridge_rows(Xt, names)
+    if extra is not None:
+        Xt, yt = np.vstack([Xt, extra[0]]), np.concatenate([yt, extra[1]])
+    return fit_linear_model(Xt, yt, what="refine cv")
+
+
 def cv_residual(data, spec, opts, candidate=None):
     """Out-of-sample residual of `spec` (+ `candidate`, a (family, variant)
     whose nonlinear parameter is chosen per fold on the training rows).
@@ -82,20 +121,21 @@ def cv_residual(data, spec, opts, candidate=None):
     if candidate is not None:
         fam, variant = candidate
         specs = [spec.with_effect(fx.Effect(fam.name, variant, p)) for p in fam.grid(data)]
-    designs = [fx.design(data, s)[0] for s in specs]
+    designs = [fx.design(data, s) for s in specs]
     e = np.full(data.n, np.nan)
     for train, test in fold_rows(data.n, opts.folds, gap):
         tr = train & data.mask
         te = test & data.mask
         if not te.any():
             continue
-        if tr.sum() < designs[0].shape[1] + 1:
+        if tr.sum() < designs[0][0].shape[1] + 1:
             raise InsufficientDataError(
                 f"refine: a cross-validation fold keeps {int(tr.sum())} training samples for "
-                f"{designs[0].shape[1]} parameters; use fewer folds or more data")
+                f"{designs[0][0].shape[1]} parameters; use fewer folds or more data")
         best = None
-        for X in designs:
-            beta, res = fit_linear_model(X[tr], data.y[tr], what="refine cv")
+        for X, names in designs:
+            beta, _ = fit_rows(X, data.y, tr, names)
+            res = data.y[tr] - X[tr] @ beta
             sse = float(res @ res)
             if best is None or sse < best[0]:
                 best = (sse, X, beta)
@@ -239,8 +279,7 @@ def repolish(data, spec, passes=2):
             fam = fx.FAMILIES[e.name]
             if fam.param_name is None:
                 continue
-            current = [x for x in model.spec.effects if x.name != e.name]
-            model = fx.fit_param(data, fx.ModelSpec(model.spec.base_order, tuple(current)), fam, e.variant)
+            model = fx.fit_param(data, model.spec.without(e.name), fam, e.variant)
     return model
 
 
@@ -248,7 +287,7 @@ def reselect(data, model, opts):
     """After an effect is added: choose the offset order again with the
     effects in place (a lag, for one, changes which order fits), then
     re-polish the nonlinear parameters."""
-    if data.T is None:
+    if data.T is None or model.spec.base_family != "poly":
         return model
     order, _ = choose_base_order(data, opts, model.spec.effects)
     if order == model.spec.base_order:
@@ -295,11 +334,15 @@ class Step:
     cv_rms_after: float
     p_value: float
     candidates: list = field(default_factory=list)
+    cv_systematic_before: float = float("nan")
+    cv_systematic_after: float = float("nan")
 
     def as_dict(self):
         return {"effect": self.effect, "params": self.params,
                 "rms_before": self.rms_before, "rms_after": self.rms_after,
                 "cv_rms_before": self.cv_rms_before, "cv_rms_after": self.cv_rms_after,
+                "cv_systematic_before": self.cv_systematic_before,
+                "cv_systematic_after": self.cv_systematic_after,
                 "p_value": self.p_value, "candidates": self.candidates}
 
 
@@ -319,6 +362,11 @@ class Result:
     relations_before: dict
     unavailable: dict
     test: str
+    used: np.ndarray = None      # samples usable before impulse screening
+    impulses: np.ndarray = None  # samples treated as impulses
+    not_claimed: list = field(default_factory=list)
+    per_report: int = 1          # samples in one reported reading
+    report_s: float = DEFAULT_REPORT_S
 
     @property
     def base_rms(self):
@@ -327,6 +375,18 @@ class Result:
     @property
     def final_rms(self):
         return self.final.rms(self.data.mask)
+
+    def figures(self, model):
+        """Robust (impulses left out) and plain (impulses in) per-sample RMS,
+        the RMS of a reported reading (the residual averaged over report_s)
+        and its systematic part."""
+        robust_e = np.where(self.data.mask, model.residual, np.nan)
+        out = robust.figures(robust_e, self.per_report)
+        used = self.used if self.used is not None else self.data.mask
+        out["plain_rms"] = float(np.sqrt(np.mean(model.residual[used] ** 2)))
+        out["plain_averaged_rms"] = robust.averaged_rms(np.where(used, model.residual, np.nan),
+                                                        self.per_report)
+        return out
 
     def report(self):
         d = self.diagnostics_after
@@ -342,17 +402,30 @@ class Result:
                             f"variance between {d['time_blocks']} time blocks, "
                             f"ANOVA p = {d['time_blocks_anova_p']:.2g})")
             unexplained["seen"] = "; ".join(what)
+        n_imp = int(self.impulses.sum()) if self.impulses is not None else 0
         return {
             "base_rms": self.base_rms,
             "final_rms": self.final_rms,
             "base_cv_rms": self.base_cv_rms,
             "final_cv_rms": self.final_cv_rms,
             "n_samples": int(self.data.mask.sum()),
+            "impulses": {"count": n_imp,
+                         "rule": (f"|r - running median of {2 * robust.HAMPEL_HALF_WINDOW + 1}| > "
+                                  f"{robust.HAMPEL_K:g} robust sigma on the base residual; "
+                                  "left out of fitting and scoring"),
+                         "first_indices": [int(i) for i in np.flatnonzero(self.impulses)[:20]]
+                         if n_imp else []},
+            "report_s": self.report_s,
+            "samples_per_report": self.per_report,
+            "before": self.figures(self.base),
+            "after": self.figures(self.final),
             "base_model": {"offset_order": self.base.spec.base_order,
                            "offset_order_cv_rms": {str(k): v for k, v in self.base_order_cv.items()},
                            "reference": self.data.labels.get("reference", "given")},
+            "final_offset": self.final.spec.describe_base() if self.data.T is not None else None,
             "steps": [s.as_dict() for s in self.steps],
             "not_added": self.rejected,
+            "not_claimed": self.not_claimed,
             "at_search_edge": self.at_edge,
             "unexplained": unexplained,
             "residual_vs_candidates_before": self.relations_before,
@@ -366,6 +439,7 @@ def model_dict(data, model):
     """The refined model as data: spec, coefficients and the scalings the
     columns were built with (what export needs)."""
     out = {"offset_order": model.spec.base_order,
+           "offset_family": model.spec.base_family,
            "effects": [{"effect": e.name, "variant": e.variant, "param": e.param}
                        for e in model.spec.effects],
            "coefficients": model.coefficients(),
@@ -379,7 +453,66 @@ def model_dict(data, model):
 
 STOP_TEST = ("add the candidate with the lowest blocked-CV RMS only if a one-sided Diebold-Mariano "
              "test on the out-of-sample squared-error differential (HAC standard error, window "
-             "n/{tb} samples) gives p < {a} / (candidates tried) and the CV RMS falls by >= {g:.0%}")
+             "n/{tb} samples) gives p < {a} / (candidates tried), the systematic error of a reading "
+             "averaged over {r:g} s falls by >= {g:.0%} and by at least {m:g} x that reading's "
+             "noise (in quadrature); impulses are left out of fitting and scoring")
+
+
+def stop_test(opts):
+    return STOP_TEST.format(tb=opts.test_blocks, a=opts.alpha, g=opts.min_gain, r=opts.report_s,
+                            m=opts.material)
+
+
+def not_physical(data, family, spec, opts, t_sigma):
+    """None, or why `family`'s fitted parameter in `spec` does not mean
+    what its name says: a time constant under MIN_TAU_PERIODS sample periods
+    only smooths noise (no lag, creep or warm-up is resolved that fast); a
+    play-operator width under MIN_WIDTH_NOISE x the temperature reading's
+    noise only smooths that noise."""
+    if family.param_name is None:
+        return None
+    eff = next(e for e in spec.effects if e.name == family.name)
+    if family.param_name == "tau_s" and eff.param < MIN_TAU_PERIODS * data.dt:
+        return {"tau_s": eff.param, "reason": (
+            f"time constant {eff.param:.3g} s is under {MIN_TAU_PERIODS:g} sample periods "
+            f"({MIN_TAU_PERIODS * data.dt:.3g} s): noise smoothing, not a physical {family.name}")}
+    if family.name == "hysteresis" and eff.param < MIN_WIDTH_NOISE * t_sigma:
+        return {"width": eff.param, "reason": (
+            f"width {eff.param:.3g} is under {MIN_WIDTH_NOISE:g} x the temperature noise "
+            f"({t_sigma:.3g}): smoothing of the temperature reading, not a hysteresis")}
+    return None
+
+
+def screen_impulses(data, opts):
+    """Fit the base offset with every usable sample, flag impulses on its
+    residual (robust.impulse_mask) and return (data without them, used
+    mask, impulse mask)."""
+    used = data.mask.copy()
+    if opts.impulse_k is None:
+        return data, used, np.zeros(data.n, dtype=bool)
+    order, _ = choose_base_order(data, opts)
+    resid = fx.fit(data, fx.ModelSpec(order)).residual
+    imp = robust.impulse_mask(resid, used, opts.impulse_k)
+    if not imp.any():
+        return data, used, imp
+    return replace(data, mask=used & ~imp), used, imp
+
+
+def judge(e_old, e_new, opts, per_report, n_tried):
+    """The stopping rule on two out-of-sample residuals: (accepted, p,
+    threshold, systematic before, after, relative gain, removed, noise)."""
+    p = improvement_p(e_old, e_new, opts.test_blocks)
+    threshold = opts.alpha / n_tried
+    sigma = robust.white_sigma(e_old)
+    sys_old = robust.systematic_rms(e_old, per_report, sigma)
+    sys_new = robust.systematic_rms(e_new, per_report, robust.white_sigma(e_new))
+    gain = 1.0 - sys_new / sys_old if sys_old > 0 else 0.0
+    removed = float(np.sqrt(max(0.0, sys_old ** 2 - sys_new ** 2)))
+    noise = sigma / np.sqrt(per_report)
+    ok = p < threshold and gain >= opts.min_gain and removed >= opts.material * noise
+    return ok, {"p_value": p, "p_threshold": threshold, "cv_systematic": sys_new,
+                "cv_systematic_now": sys_old, "systematic_gain": gain,
+                "systematic_removed": removed, "reading_noise": float(noise)}
 
 
 def refine(data, opts=None):
@@ -387,6 +520,11 @@ def refine(data, opts=None):
     then add, one at a time, the named effect that most lowers the blocked
     cross-validated error, while the gain is significant; say when structure
     is left that no candidate explains.
+
+    Impulses are screened on the base model's residual; when the refined
+    model's residual screens differently (structure the base model lacked
+    looked like spikes to the running median), the loop runs once more
+    with the screening of the refined residual.
 
     Parameters
     ----------
@@ -423,6 +561,19 @@ def refine(data, opts=None):
     if data.mask.sum() < 3 * opts.folds:
         raise InsufficientDataError(
             f"refine: {int(data.mask.sum())} usable samples; need at least {3 * opts.folds}")
+    screened, used, impulses = screen_impulses(data, opts)
+    result = _loop(screened, used, impulses, opts)
+    if opts.impulse_k is None or not result.steps:
+        return result
+    again = robust.impulse_mask(result.final.residual, used, opts.impulse_k)
+    if np.array_equal(again, impulses):
+        return result
+    return _loop(replace(data, mask=used & ~again), used, again, opts)
+
+
+def _loop(data, used, impulses, opts):
+    per_report = robust.samples_per_report(data.dt, opts.report_s)
+    t_sigma = robust.white_sigma(np.where(data.mask, data.T, np.nan)) if data.T is not None else 0.0
     order, order_cv = choose_base_order(data, opts)
     spec = fx.ModelSpec(order)
     model = fx.fit(data, spec)
@@ -433,9 +584,10 @@ def refine(data, opts=None):
                    if fx.FAMILIES[f].unavailable(data)}
     diag_before = residual_diagnostics(data, model.residual, opts.test_blocks)
     relations = candidate_relations(data, model)
-    steps, rejected, at_edge = [], [], []
+    steps, rejected, at_edge, not_claimed = [], [], [], []
+    shaped = False
     for _ in range(opts.max_steps):
-        tried, at_edge = [], []
+        tried, at_edge, not_claimed = [], [], []
         for name in opts.families:
             fam = fx.FAMILIES[name]
             if name in model.spec.names() or fam.unavailable(data):
@@ -446,40 +598,61 @@ def refine(data, opts=None):
                 if edge is not None:
                     at_edge.append({"effect": name, "variant": v, **edge})
                     continue
+                bad = not_physical(data, fam, trial.spec, opts, t_sigma)
+                if bad is not None:
+                    not_claimed.append({"effect": name, "variant": v, **bad})
+                    continue
                 if any(fx.FAMILIES[e.name].param_name for e in model.spec.effects):
                     # the earlier effects' parameters move with the newcomer
                     # (a lag fitted alone absorbs part of a hysteresis)
                     trial = repolish(data, trial.spec)
-                others = fx.ModelSpec(trial.spec.base_order,
-                                      tuple(e for e in trial.spec.effects if e.name != name))
-                e_new = cv_residual(data, others, opts, (fam, v))
+                e_new = cv_residual(data, trial.spec.without(name), opts, (fam, v))
                 tried.append((rms(e_new), name, v, e_new, trial))
+        if opts.shape and not shaped:
+            # the best larger offset (one candidate: the size chosen by CV)
+            shapes = [(rms(e), params, e, s) for params, s in shape_trials(data, model)
+                      for e in [cv_residual(data, s, opts)]]
+            if shapes:
+                c, params, e_new, s = min(shapes, key=lambda x: x[0])
+                tried.append((c, "offset_shape", params, e_new, fx.fit(data, s)))
         if not tried:
             break
         tried.sort(key=lambda x: x[0])
         summary = [{"effect": n, "variant": v, "cv_rms": c} for c, n, v, _, _ in tried]
         cv_new, name, variant, e_new, trial = tried[0]
         cv_old = rms(e_cv)
-        p = improvement_p(e_cv, e_new, opts.test_blocks)
-        threshold = opts.alpha / len(tried)
-        gain = 1.0 - cv_new / cv_old if cv_old > 0 else 0.0
-        if not (p < threshold and gain >= opts.min_gain):
+        ok, verdict = judge(e_cv, e_new, opts, per_report, len(tried))
+        if not ok:
             rejected = [{"effect": name, "variant": variant, "cv_rms": cv_new, "cv_rms_now": cv_old,
-                         "p_value": p, "p_threshold": threshold, "cv_gain": gain}]
+                         "cv_gain": 1.0 - cv_new / cv_old if cv_old > 0 else 0.0, **verdict}]
             break
-        fam = fx.FAMILIES[name]
-        new_model = reselect(data, trial, opts)
+        if name == "offset_shape":
+            shaped = True
+            new_model = trial
+            params = dict(variant)
+        else:
+            fam = fx.FAMILIES[name]
+            new_model = reselect(data, trial, opts)
+            eff = next(e for e in new_model.spec.effects if e.name == name)
+            params = fam.describe(eff)
+            params["coefficients"] = {k: v for k, v in new_model.coefficients().items()
+                                      if k.startswith(name + ":")}
         e_cv_new = cv_residual(data, new_model.spec, opts)   # CV of the model actually kept
-        eff = next(e for e in new_model.spec.effects if e.name == name)
-        params = fam.describe(eff)
-        params["coefficients"] = {k: v for k, v in new_model.coefficients().items()
-                                  if k.startswith(name + ":")}
+        if not rms(e_cv_new) < cv_old:
+            # the per-fold parameter choice won, the model as kept does not
+            rejected = [{"effect": name, "variant": variant, "cv_rms": rms(e_cv_new),
+                         "cv_rms_now": cv_old, "cv_gain": 1.0 - rms(e_cv_new) / cv_old,
+                         **verdict, "kept_model_cv_worse": True}]
+            break
         steps.append(Step(name, params, model.rms(data.mask), new_model.rms(data.mask),
-                          cv_old, rms(e_cv_new), p, summary))
+                          cv_old, rms(e_cv_new), verdict["p_value"], summary,
+                          verdict["cv_systematic_now"],
+                          robust.systematic_rms(e_cv_new, per_report)))
         model, e_cv = new_model, e_cv_new
     return Result(data=data, base=base, final=model, base_order_cv=order_cv, steps=steps,
                   rejected=rejected, at_edge=at_edge, base_cv_rms=base_cv, final_cv_rms=rms(e_cv),
                   diagnostics_before=diag_before,
                   diagnostics_after=residual_diagnostics(data, model.residual, opts.test_blocks),
-                  relations_before=relations, unavailable=unavailable,
-                  test=STOP_TEST.format(tb=opts.test_blocks, a=opts.alpha, g=opts.min_gain))
+                  relations_before=relations, unavailable=unavailable, test=stop_test(opts),
+                  used=used, impulses=impulses, not_claimed=not_claimed,
+                  per_report=per_report, report_s=opts.report_s)

@@ -11,7 +11,7 @@ import numpy as np
 from ..io import read_csv
 from ..sim.chamber import ChamberParams, simulate as sim_chamber
 from ..sim.loadcell import simulate as sim_loadcell
-from ..sim.refine_cases import chamber_run, fit_data
+from ..sim.refine_cases import chamber_run, fit_data, loadcell_creep_run
 from . import effects as fx
 from .loop import plateau_reference
 
@@ -37,12 +37,21 @@ def injected_cases():
     yield "sim_loadcell nonlinearity 0.05 % FS", "nonlinearity", lc(nonlinearity_frac_fs=0.0005)
     for eff in ("gain_drift", "cross_axis", "nonlinearity", "thermal_lag", "hysteresis"):
         yield f"synthetic rotating field: {eff}", eff, fit_data(chamber_run(eff, seed=0))
+    yield "synthetic: warm-up 8 LSB, tau 300 s after power-on", "warm_up", fit_data(chamber_run("warm_up", seed=0))
     yield "synthetic: thermal_lag + hysteresis", "thermal_lag+hysteresis", \
         fit_data(chamber_run(("thermal_lag", "hysteresis"), seed=0))
     # a lag and a hysteresis on the simulator's constant-rate ramp imitate each
     # other; the simulator's branch follows the chamber, not the lagged die
     yield "sim_chamber thermal_lag_s=400 + hysteresis 24 LSB", "thermal_lag+hysteresis", \
         ch(seed=0, thermal_lag_s=400.0, hysteresis_lsb=(24.0,) * 3)
+    for seed, loads in ((0, (0.0, 50.0, 0.0, 50.0)), (1, (0.0, 30.0, 0.0, 45.0))):
+        r = loadcell_creep_run(seed=seed, loads=loads, hold_s=1200.0 if seed == 0 else 900.0)
+        yield (f"HX711-like creep 0.04 %, 300 s, noise 25, 0.2 % impulses 2k-20k, loads {loads}",
+               "creep", fx.FitData(y=r["counts"], t=r["t"], r=r["ref_kg"]))
+    r = sim_chamber(ChamberParams(seed=0, sample_rate_hz=0.5, temp_noise_c=0.15, noise_lsb=1.0,
+                                  profile="ramp", thermal_lag_s=300.0))
+    yield "sim_chamber thermal_lag_s=300, temperature noise 0.15 °C every 2 s", "thermal_lag", \
+        fx.FitData(y=r["x"], t=r["t"], T=r["temp"], r=r["ref_x"])
     yield "synthetic: step in time (outside library)", "(none: step)", fit_data(chamber_run("step", seed=0))
     yield "sim_loadcell zero random walk (outside library)", "(none: drift)", lc(seed=3, drift_rw_uv=0.05)
 
@@ -60,11 +69,14 @@ def clean_cases():
     yield "sim_chamber ramp, constant field", ch
     yield "sim_loadcell steps", lc
 
+    def noisy_t(seed):
+        r = sim_chamber(ChamberParams(seed=seed, sample_rate_hz=0.5, temp_noise_c=0.15, noise_lsb=1.0,
+                                      profile="ramp"))
+        return fx.FitData(y=r["x"], t=r["t"], T=r["temp"], r=r["ref_x"])
+    yield "sim_chamber ramp, temperature noise 0.15 °C every 2 s, noise 1 LSB", noisy_t
+
 
 def real_cases(data_dir):
-    """(label, FitData) of every recording in `data_dir` refine can be run on
-    (the HX711 steps against their plateau levels, the MPU-6000 and BMI270
-    gyro offsets against temperature); absent files are passed over."""
     hx = os.path.join(data_dir, "hx711_steps_10hz", "hx711_steps_10hz.csv")
     if os.path.exists(hx):
         d = read_csv(hx, ["t_s", "lc1_counts", "lc2_counts"])
@@ -86,16 +98,23 @@ def real_cases(data_dir):
         for col in cols[1:]:
             y = np.concatenate([a[col], b[col]])
             yield f"bmi270 {col} (cold + hot files joined)", fx.FitData(
-                y=y, t=np.arange(y.size, dtype=float), T=np.concatenate([a["temp_c"], b["temp_c"]]))
+                y=y, t=np.arange(y.size, dtype=float), T=np.concatenate([a["temp_c"], b["temp_c"]]),
+                segments=(0, a[col].size))
 
 
 def row(label, res, injected=None, seconds=0.0):
-    """One table row of a refine Result: what it found, RMS and CV RMS before
-    and after, the residual diagnostics."""
     rep = res.report()
     u = rep["unexplained"]
+    b, a = rep["before"], rep["after"]
     return {"case": label, "injected": injected,
-            "found": [s["effect"] for s in rep["steps"]],
+            "found": [s["effect"] if s["effect"] != "offset_shape" else f"offset_shape: {rep['final_offset']}"
+                      for s in rep["steps"]],
+            "impulses": rep["impulses"]["count"],
+            "robust_rms": [b["rms"], a["rms"]], "plain_rms": [b["plain_rms"], a["plain_rms"]],
+            "averaged_rms": [b["averaged_rms"], a["averaged_rms"]],
+            "systematic_rms": [b["systematic_rms"], a["systematic_rms"]],
+            "report_s": rep["report_s"],
+            "not_claimed": sorted({r["effect"] for r in rep["not_claimed"]}),
             "params": [{k: v for k, v in s["params"].items() if k != "coefficients"} for s in rep["steps"]],
             "base_rms": rep["base_rms"], "final_rms": rep["final_rms"],
             "ratio": rep["base_rms"] / rep["final_rms"],

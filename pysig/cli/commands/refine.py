@@ -39,6 +39,9 @@ def register(sub):
                    help="family-wise level of the stopping test")
     p.add_argument("--min-gain", type=float, default=rf.DEFAULT_MIN_GAIN,
                    help="smallest relative CV RMS drop that counts")
+    p.add_argument("--report-s", type=float, default=rf.DEFAULT_REPORT_S,
+                   help="seconds a reported reading averages over: effects are judged by the "
+                        "systematic error they remove from such a reading")
     p.add_argument("--json", metavar="REPORT.json", help="write the report as JSON")
     p.add_argument("--plot", metavar="DIR", help="write residual PNGs into DIR")
     p.set_defaults(func=run)
@@ -51,7 +54,7 @@ def load(args):
     if refs and len(refs) not in (1, len(measured)):
         raise InputFileError(f"refine: {len(refs)} --ref columns for {len(measured)} measured columns")
     wanted = list(dict.fromkeys(measured + refs + [c for c in (args.time, args.temp) if c]))
-    parts, t_all, t_end = [], [], None
+    parts, t_all, t_end, starts = [], [], None, []
     for path in args.inputs:
         cols = read_csv(path, wanted)
         n = next(iter(cols.values())).size
@@ -64,13 +67,14 @@ def load(args):
             dt = float(np.median(np.diff(t))) if n > 1 else 1.0
             t = t - t[0] + t_end + dt
         t_end = float(t[-1])
+        starts.append(sum(c.size for c in t_all))       # each file is a power-on
         parts.append(cols)
         t_all.append(t)
     joined = {k: np.concatenate([c[k] for c in parts]) for k in wanted}
-    return joined, np.concatenate(t_all), measured, refs
+    return joined, np.concatenate(t_all), measured, refs, tuple(starts)
 
 
-def build_data(joined, t, measured, refs, i, temp, inputs):
+def build_data(joined, t, measured, refs, i, temp, inputs, segments=(0,)):
     name = measured[i]
     ref_name = (refs[i] if len(refs) == len(measured) else refs[0]) if refs else None
     labels = {"column": name, "inputs": inputs}
@@ -88,7 +92,7 @@ def build_data(joined, t, measured, refs, i, temp, inputs):
     if refs and len(refs) == len(measured):
         others = {refs[j]: joined[refs[j]] for j in range(len(refs)) if j != i}
     return FitData(y=joined[name], t=t, T=joined[temp] if temp else None, r=r, others=others,
-                   mask=mask, labels=labels, ref_from_y=ref_from_y)
+                   mask=mask, labels=labels, ref_from_y=ref_from_y, segments=segments)
 
 
 def _fmt_params(params):
@@ -100,6 +104,21 @@ def _fmt_params(params):
     return " ".join(items) or "-"
 
 
+def _fmt_variant(r):
+    if r["effect"] == "offset_shape":
+        v = r["variant"]
+        size = f"{v['knots']} knots" if v["family"] == "table" else f"order {v['order']}"
+        return f"offset shape ({v['family']}, {size})"
+    return r["effect"]
+
+
+def _fmt_step_params(s):
+    if s["effect"] == "offset_shape":
+        p = s["params"]
+        return f"table {p['knots']} knots" if p["family"] == "table" else f"poly order {p['order']}"
+    return _fmt_params(s["params"])
+
+
 def format_table(name, result):
     rep = result.report()
     lines = [f"column {name}: {rep['n_samples']} samples, reference: {rep['base_model']['reference']}, "
@@ -109,15 +128,29 @@ def format_table(name, result):
     lines.append(f"  {'base':<5}{'-':<14}{'-':<24}{'':>11}{rep['base_rms']:>11.4g}"
                  f"{'':>11}{rep['base_cv_rms']:>11.4g}{'':>10}")
     for k, s in enumerate(rep["steps"], 1):
-        lines.append(f"  {k:<5}{s['effect']:<14}{_fmt_params(s['params']):<24}{s['rms_before']:>11.4g}"
+        lines.append(f"  {k:<5}{s['effect']:<14}{_fmt_step_params(s):<24}{s['rms_before']:>11.4g}"
                      f"{s['rms_after']:>11.4g}{s['cv_rms_before']:>11.4g}{s['cv_rms_after']:>11.4g}"
                      f"{s['p_value']:>10.2g}")
     ratio = rep["base_rms"] / rep["final_rms"] if rep["final_rms"] > 0 else float("inf")
     lines.append(f"  RMS {rep['base_rms']:.4g} -> {rep['final_rms']:.4g} ({ratio:.2f}x); "
                  f"CV RMS {rep['base_cv_rms']:.4g} -> {rep['final_cv_rms']:.4g}")
+    b, a = rep["before"], rep["after"]
+    imp = rep["impulses"]["count"]
+    lines.append(f"  impulses: {imp} sample(s) left out; per sample: robust RMS {b['rms']:.4g} -> "
+                 f"{a['rms']:.4g}, plain RMS (impulses in) {b['plain_rms']:.4g} -> {a['plain_rms']:.4g}")
+    lines.append(f"  reading averaged over {rep['report_s']:g} s: RMS {b['averaged_rms']:.4g} -> "
+                 f"{a['averaged_rms']:.4g}, systematic part {b['systematic_rms']:.4g} -> "
+                 f"{a['systematic_rms']:.4g}")
+    if rep["final_offset"] and any(s["effect"] == "offset_shape" for s in rep["steps"]):
+        lines.append(f"  offset shape: {rep['final_offset']}")
     for r in rep["not_added"]:
-        lines.append(f"  not added: {r['effect']} (CV gain {100 * r['cv_gain']:.1f} %, "
-                     f"p = {r['p_value']:.2g}, needs < {r['p_threshold']:.2g})")
+        lines.append(f"  not added: {_fmt_variant(r)} (systematic gain "
+                     f"{100 * r['systematic_gain']:.1f} %, removed {r['systematic_removed']:.3g} vs "
+                     f"reading noise {r['reading_noise']:.3g}, p = {r['p_value']:.2g}, needs < "
+                     f"{r['p_threshold']:.2g})"
+                     + ("; its model as kept scores worse out of sample" if r.get("kept_model_cv_worse") else ""))
+    for r in {r["effect"]: r for r in rep["not_claimed"]}.values():
+        lines.append(f"  not claimed: {r['effect']} ({r['reason']})")
     for r in {r["effect"]: r for r in rep["at_search_edge"]}.values():     # one line per effect
         (pname, value), = [(k, v) for k, v in r.items() if k not in ("effect", "variant", "search_top")]
         lines.append(f"  not tried: {r['effect']} ({pname} = {value:.4g} at the top of its search "
@@ -136,11 +169,14 @@ def run(args):
         raise InsufficientDataError(f"refine: --folds must be at least 2, got {args.folds}")
     if not 0 < args.alpha < 1:                  # also refuses NaN
         raise RangeError(f"refine: --alpha must be in (0, 1), got {args.alpha}")
-    joined, t, measured, refs = load(args)
-    opts = rf.Options(folds=args.folds, alpha=args.alpha, min_gain=args.min_gain)
+    joined, t, measured, refs, starts = load(args)
+    if not args.report_s > 0:                   # also refuses NaN
+        raise RangeError(f"refine: --report-s must be > 0, got {args.report_s}")
+    opts = rf.Options(folds=args.folds, alpha=args.alpha, min_gain=args.min_gain,
+                      report_s=args.report_s)
     reports, results = {}, {}
     for i, name in enumerate(measured):
-        data = build_data(joined, t, measured, refs, i, args.temp, args.inputs)
+        data = build_data(joined, t, measured, refs, i, args.temp, args.inputs, starts)
         res = rf.refine(data, opts)
         results[name] = res
         reports[name] = res.report()
@@ -154,7 +190,7 @@ def run(args):
     if args.json:
         doc = reports[measured[0]] if len(measured) == 1 else {"columns": reports}
         doc = dict(doc)
-        doc["stopping_test"] = rf.STOP_TEST.format(tb=opts.test_blocks, a=opts.alpha, g=opts.min_gain)
+        doc["stopping_test"] = rf.stop_test(opts)
         with atomic_output(args.json) as fh:
             json.dump(doc, fh, indent=2, default=_json_default)
             fh.write("\n")
