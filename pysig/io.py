@@ -287,13 +287,44 @@ def read_table(path, columns=None, numeric=None, strings=()):
 
 
 def read_csv(path, columns=None, allow_nonfinite=False):
-    """Read numeric columns of a CSV or Parquet file (by suffix).
+    """Read numeric columns of a CSV or Parquet file (by its suffix).
 
-    Returns a dict name -> float64 ndarray for the requested `columns` (all
-    columns when None), in the order asked.  Raises InputFileError naming
-    the file, row (1-based, a CSV's header is row 1) and column for an empty
-    file, a header-only file, a missing or doubled column or a non-numeric
-    cell, and NonFiniteError for NaN/inf unless `allow_nonfinite`."""
+    Parameters
+    ----------
+    path : path-like
+        ``.parquet``/``.pq`` is read as Parquet, anything else as CSV with a
+        header row.
+    columns : sequence of str, optional
+        The columns to return, in this order (all, in file order, when None).
+    allow_nonfinite : bool, optional
+        Accept NaN and inf cells.
+
+    Returns
+    -------
+    dict
+        name -> float64 ndarray, in the order asked.
+
+    Raises
+    ------
+    InputFileError
+        Naming the file, row (1-based; a CSV's header is row 1, a Parquet
+        file's first row is row 1) and column: an unreadable or empty file,
+        a header-only file, a missing column or a name given twice, a
+        non-numeric or empty cell.
+    NonFiniteError
+        A NaN or inf cell, unless `allow_nonfinite`.
+
+    Examples
+    --------
+    >>> _ = open("in.csv", "w").write("t,counts\\n0.0,1000\\n0.1,1002\\n")
+    >>> read_csv("in.csv", ["counts"])
+    {'counts': array([1000., 1002.])}
+    >>> _ = open("bad.csv", "w").write("t,counts\\n0.0,1000\\n0.1,x\\n")
+    >>> read_csv("bad.csv")
+    Traceback (most recent call last):
+        ...
+    pysig.errors.InputFileError: bad.csv: row 3, column 'counts': not a number: 'x'
+    """
     table = read_table(path, columns)
     out = {}
     for name in table.column_names:
@@ -305,8 +336,36 @@ def read_csv(path, columns=None, allow_nonfinite=False):
 
 
 def check_time_column(path, name, t):
-    """Times must be strictly increasing: duplicates and unsorted rows are
-    named by their row."""
+    """Check that a time column read by `read_csv` strictly increases.
+
+    Parameters
+    ----------
+    path : path-like
+        The file the column came from (for the message and the row
+        numbering: a CSV's header is row 1, a Parquet file has none).
+    name : str
+        The column's name (for the message).
+    t : ndarray
+        The times.
+
+    Raises
+    ------
+    InputFileError
+        A duplicate or decreasing time, named by its row.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> check_time_column("in.csv", "t", np.array([0.0, 0.1, 0.2]))
+    >>> check_time_column("in.csv", "t", np.array([0.0, 0.1, 0.1]))
+    Traceback (most recent call last):
+        ...
+    pysig.errors.InputFileError: in.csv: row 4, column 't': duplicate time 0.1 after 0.1
+    >>> check_time_column("in.parquet", "t", np.array([0.0, 0.2, 0.1]))
+    Traceback (most recent call last):
+        ...
+    pysig.errors.InputFileError: in.parquet: row 3, column 't': decreasing (unsorted) time 0.1 after 0.2
+    """
     dt = np.diff(t)
     bad = np.flatnonzero(dt <= 0)
     if bad.size:
@@ -349,8 +408,45 @@ def atomic_path(path):
 
 @contextmanager
 def atomic_output(path, mode="w", **kwargs):
-    """Open a temporary file beside `path`; rename it over `path` only when
-    the block finishes without an exception."""
+    """Write a file all or nothing: a context manager that opens a temporary
+    file beside `path` and renames it over `path` only when the block
+    finishes without an exception (else the temporary is removed and an
+    existing `path` is left as it was).
+
+    Parameters
+    ----------
+    path : path-like
+        The file to write.
+    mode : str, optional
+        "w" (text) or "wb" (binary).
+    **kwargs
+        Passed to `open` (newline, encoding, ...).
+
+    Yields
+    ------
+    file object
+        The temporary file.
+
+    Raises
+    ------
+    OutputFileError
+        The directory cannot be written or the rename fails.
+
+    Examples
+    --------
+    >>> with atomic_output("out.txt") as fh:
+    ...     _ = fh.write("done\\n")
+    >>> open("out.txt").read()
+    'done\\n'
+    >>> with atomic_output("out.txt") as fh:
+    ...     _ = fh.write("half")
+    ...     raise ValueError("stopped half way")
+    Traceback (most recent call last):
+        ...
+    ValueError: stopped half way
+    >>> open("out.txt").read()             # unchanged
+    'done\\n'
+    """
     with atomic_path(path) as tmp:
         with open(tmp, mode, **kwargs) as fh:
             yield fh
@@ -383,10 +479,35 @@ CSV_WRITE_OPTIONS = dict(include_header=False, quoting_style="needed")
 
 
 def write_csv(path, columns):
-    """Write a dict name -> 1-D array (or a pyarrow Table) atomically, as
-    Parquet when `path` ends in .parquet/.pq and as CSV otherwise.  Integer
-    arrays are written as integers, booleans as 1/0, floats in the shortest
-    form that reads back to the same double."""
+    """Write columns atomically (see `atomic_path`): as Parquet when `path`
+    ends in .parquet/.pq, as CSV with a header row otherwise.
+
+    Parameters
+    ----------
+    path : path-like
+        The file to write.
+    columns : dict or pyarrow.Table
+        name -> 1-D array, all of one length (or a Table).  Integer arrays
+        are written as integers, booleans as 1/0, floats in the shortest
+        form that reads back to the same double.
+
+    Raises
+    ------
+    OutputFileError
+        The file cannot be written; nothing is left behind.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> write_csv("out.csv", {"t": np.array([0.0, 0.1]), "stable": np.array([False, True])})
+    >>> print(open("out.csv").read(), end="")
+    t,stable
+    0,0
+    0.1,1
+    >>> write_csv("out.parquet", {"t": np.array([0.0, 0.1])})
+    >>> read_csv("out.parquet")
+    {'t': array([0. , 0.1])}
+    """
     table = to_table(columns)
     with atomic_path(path) as tmp:
         try:

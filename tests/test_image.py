@@ -219,6 +219,9 @@ def test_python_constants_match_the_c_headers():
     for name, value in ids.items():
         if name != "INVALID":
             assert getattr(image, "SECTION_" + name) == value, name
+    from pysig.store import device_id
+    from pysig.reference import device_id as ref_device_id
+    assert device_id.SECTION_DEVICE_ID == ref_device_id.SECTION_DEVICE_ID == ids["DEVICE_ID"]
     assert int(re.search(r"SIG_OFFSET_POLY_FIXED_LEN (\d+)u", hdr).group(1)) == image.OFFSET_POLY_FIXED_LEN
     assert int(re.search(r"SIG_IMAGE_HEADER_LEN\s+(\d+)u", hdr).group(1)) == ref.HEADER_LEN
     tc = (CSRC_INCLUDE / "sig_tcomp.h").read_text()

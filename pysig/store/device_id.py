@@ -9,10 +9,11 @@ refuse another unit's calibration.
 Serials are text (UTF-8) or bytes; a serial of at most 16 bytes is stored as
 it is, a longer one as a 32-bit hash plus its last 12 bytes."""
 from ..errors import ModelFileError
+from ..status import Status
 from ._device_id import check_image, device_id
+from .image import SECTION_DEVICE_ID
 
-SECTION_DEVICE_ID = 9
-SIG_ERR_DEVICE = -6
+SIG_ERR_DEVICE = int(Status.ERR_DEVICE)
 MAX_LEN = 16
 
 

@@ -20,6 +20,7 @@ SECTION_CREEP = 5
 SECTION_PWL_TABLE = 6
 SECTION_LINEAR_SCALE = 7
 SECTION_COMPACT_POLY = 8
+SECTION_DEVICE_ID = 9       # its payload: pysig.store.device_id
 SECTION_TEMP_CODE = 10
 SECTION_EXPERIMENTAL = 0x8000
 OFFSET_POLY_FIXED_LEN = 14
@@ -313,8 +314,33 @@ def model_image(model, sequence=1, extra_sections=()):
 
 
 def compact_poly_payload(compact):
-    """Payload of SECTION_COMPACT_POLY for a pysig.tcomp.quant.CompactModel (or the
-    dict of its fields()); RangeError when sig_tcomp16_init would refuse it."""
+    """Payload of SECTION_COMPACT_POLY for the compact model form.
+
+    Parameters
+    ----------
+    compact : CompactModel or dict
+        A pysig.tcomp.quant.CompactModel, or the dict of its fields().
+
+    Returns
+    -------
+    bytes
+
+    Raises
+    ------
+    RangeError
+        Fields sig_tcomp16_init would refuse (it is the judge).
+
+    Examples
+    --------
+    >>> fields = {"top": [1605], "add": [[-25140702, -242974]], "t_lo": -19, "t_hi": 7012,
+    ...           "w_shift": 3}
+    >>> len(compact_poly_payload(fields))
+    18
+    >>> compact_poly_payload({**fields, "w_shift": 99})
+    Traceback (most recent call last):
+        ...
+    pysig.errors.RangeError: compact section: the fields are not a model sig_tcomp16_init accepts ...
+    """
     from ..tcomp._tcomp16 import Tcomp16Q
     fields = compact.fields() if hasattr(compact, "fields") else compact
     try:
@@ -331,9 +357,37 @@ def compact_poly_payload(compact):
 
 
 def parse_compact_poly(data, where="image"):
-    """Fields of sig_tcomp16_init (top, add, t_lo, t_hi, w_shift) from the
-    compact section of image bytes `data`: the checks of
-    sig_tcomp16_load_image, as a ModelFileError naming what is wrong."""
+    """Fields of sig_tcomp16_init from the compact section of an image.
+
+    Parameters
+    ----------
+    data : bytes-like
+        The whole image.
+    where : str, optional
+        Names the image in error messages.
+
+    Returns
+    -------
+    dict
+        top, add, t_lo, t_hi, w_shift.
+
+    Raises
+    ------
+    ModelFileError
+        A corrupt image, no compact section, or one sig_tcomp16_load_image
+        refuses (the message says which checks).
+
+    Examples
+    --------
+    >>> fields = {"top": [1605], "add": [[-25140702, -242974]], "t_lo": -19, "t_hi": 7012,
+    ...           "w_shift": 3}
+    >>> parse_compact_poly(compact_image(fields, sequence=2)) == fields
+    True
+    >>> parse_compact_poly(build_image([(SECTION_OFFSET_POLY, b"")]))
+    Traceback (most recent call last):
+        ...
+    pysig.errors.ModelFileError: image: ...
+    """
     from ..tcomp._tcomp16 import Tcomp16Q
     payload = find_section(data, SECTION_COMPACT_POLY, where)
     try:

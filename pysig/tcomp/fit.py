@@ -136,11 +136,71 @@ def groups_for(temp, temp_code=CELSIUS):
 
 def fit_tcomp(temp, columns, order=2, t0=25.0, temp_column="temp", groups=None, what="fit",
               temp_code=CELSIUS, max_error_lsb=None):
-    """Fit the compensation model. `columns`: dict name -> readings (1..3).
-    `order` an int 1..8 or "auto" (cross-validated, see `select_order`).
-    `temp_code` (pysig.tcomp.tempcode) says whether `temp` (and `t0`) are °C
-    or raw codes; `max_error_lsb` (a number or a dict per column) is the
-    fixed-point error the model may have (default quant.MAX_ERROR_LSB)."""
+    """Fit the temperature-compensation model of 1 to 3 axes.
+
+    Parameters
+    ----------
+    temp : array_like
+        The temperature of each sample, in the unit `temp_code` states (°C
+        by default, or the sensor's raw codes).
+    columns : dict
+        name -> readings (int16 sensor codes as floats), 1 to 3 axes, each
+        as long as `temp`.
+    order : int or "auto", optional
+        Polynomial order 1..8, or "auto": the smallest order whose
+        held-out variance is within 5 % of the best (`cross_validate`,
+        `select_order`).
+    t0 : float, optional
+        Reference temperature, in the unit of `temp`, where the correction
+        is zero; inside the calibrated range.
+    temp_column : str, optional
+        The temperature column's name, stored in the model.
+    groups : TemperatureGroups, optional
+        Precomputed temperature groups of `temp`.
+    what : str, optional
+        Names the data in error messages.
+    temp_code : TempCode, optional
+        How `temp` maps to the firmware's int16 temperature t
+        (pysig.tcomp.tempcode; default °C, t in 0.01 °C).
+    max_error_lsb : float or dict, optional
+        The largest fixed-point error bound (reading LSB) the model may
+        have, one number or name -> number per column (default
+        `pysig.tcomp.quant.MAX_ERROR_LSB`, 0.5).
+
+    Returns
+    -------
+    TcompModel
+        Float and fixed-point coefficients per axis, the temperature
+        scaling, the temperature code, and a report (groups, per-axis RMS,
+        conditioning, Q format and error bound, the CV table with "auto").
+
+    Raises
+    ------
+    InsufficientDataError
+        Fewer distinct temperatures than the order needs (order + 1).
+    RangeError
+        A bad order, a temperature outside int16 t, T0 outside the range,
+        or a fixed-point error bound above `max_error_lsb`.
+    NonFiniteError, SaturationError
+        NaN/inf inputs or readings at the int16 rails.
+
+    Examples
+    --------
+    >>> from pysig.sim.chamber import ChamberParams, simulate
+    >>> run = simulate(ChamberParams(dwell_s=600.0))        # 0/25/50/70 °C steps
+    >>> model = fit_tcomp(run["temp"], {"x": run["x"], "y": run["y"]}, order="auto")
+    >>> model.order, model.axes
+    (2, ['x', 'y'])
+    >>> fit_tcomp(run["temp"], {"x": run["x"]}, order=2, max_error_lsb=1e-9)
+    Traceback (most recent call last):
+        ...
+    pysig.errors.RangeError: fit column 'x': the fixed-point correction could be off by up to ...
+    >>> import numpy as np
+    >>> fit_tcomp(np.r_[np.full(50, 25.0), np.full(50, 40.0)], {"x": np.arange(100.0)}, order=2)
+    Traceback (most recent call last):
+        ...
+    pysig.errors.InsufficientDataError: fit: order 2 needs at least 3 distinct temperatures, ...
+    """
     temp, columns = check_inputs(temp, columns, what)
     if groups is None:
         groups = groups_for(temp, temp_code)

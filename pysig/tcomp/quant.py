@@ -50,15 +50,73 @@ class TemperatureScaling:
 
 
 def to_centi(temp_c, what="temperature"):
-    """°C -> int16 counts of 0.01 °C (rounded); RangeError outside int16
-    (pysig.tcomp.tempcode states the out-of-range rule)."""
+    """°C -> counts of 0.01 °C, the temperature unit of the C models.
+
+    Parameters
+    ----------
+    temp_c : array_like
+        Temperatures, °C.
+    what : str, optional
+        Names the data in the error message.
+
+    Returns
+    -------
+    ndarray of int64
+        Rounded to the nearest 0.01 °C (half to even), each within int16.
+
+    Raises
+    ------
+    RangeError
+        A temperature outside -327.68 .. 327.67 °C (the out-of-range rule
+        for fitting, stated in pysig.tcomp.tempcode).
+    NonFiniteError
+        A NaN or inf temperature.
+
+    Examples
+    --------
+    >>> to_centi([25.0, -0.125])
+    array([2500,  -12])
+    >>> to_centi([25.0, 400.0])
+    Traceback (most recent call last):
+        ...
+    pysig.errors.RangeError: temperature: 400.0 °C at index 1 does not fit the int16 temperature ...
+    """
     from .tempcode import CELSIUS
     return CELSIUS.to_t(temp_c, "raise", what)
 
 
 def choose_scaling(t_lo, t_hi, units_per=T_PER_DEGC):
-    """Scaling for a calibrated range [t_lo, t_hi] of int16 t (ints; t
-    counts `units_per` per unit of the float abscissa: 100 for 0.01 °C)."""
+    """The int16 temperature scaling of a calibrated range.
+
+    u = (t - t_center) * u_mul >> u_shift maps [t_lo, t_hi] onto about
+    [-32767, 32767] (Q15), the abscissa of the C polynomial.
+
+    Parameters
+    ----------
+    t_lo, t_hi : int
+        The calibrated range of the int16 temperature t, t_lo < t_hi.
+    units_per : int, optional
+        t counts per unit of the float model's abscissa: 100 for t in
+        0.01 °C (the default), 1 for raw sensor codes.
+
+    Returns
+    -------
+    TemperatureScaling
+
+    Raises
+    ------
+    RangeError
+        A range outside int16 or empty.
+
+    Examples
+    --------
+    >>> choose_scaling(-19, 7012)
+    TemperatureScaling(t_lo=-19, t_hi=7012, t_center=3496, u_mul=19086, u_shift=11, units_per=100)
+    >>> choose_scaling(100, 100)
+    Traceback (most recent call last):
+        ...
+    pysig.errors.RangeError: calibrated range [100, 100] (0.01 °C) must satisfy -32768 <= t_lo < t_hi <= 32767
+    """
     t_lo, t_hi = int(t_lo), int(t_hi)
     if not (-32768 <= t_lo < t_hi <= 32767):
         raise RangeError(f"calibrated range [{t_lo}, {t_hi}] (0.01 °C) must satisfy "
@@ -211,12 +269,47 @@ def _compact_axis_accepted(cls, top, add, scaling, w_shift):
 
 
 def quantize_compact(model, max_error_lsb=COMPACT_MAX_ERROR_LSB, what="compact form"):
-    """CompactModel for a TcompModel (pysig.tcomp.model), or RangeError naming the
-    axis and the limit it breaks: order above 5, a range wider than 327.67 °C
-    (order >= 2), a drift whose Horner partial sums the int16 levels cannot
-    hold (sig_tcomp16_init's bound: e.g. a slope of 50 LSB/°C or more), or a
-    measured error above max_error_lsb.  The error is measured exactly, at
-    every 0.01 °C of the range, against the model's float64 delta."""
+    """The compact (16x16-multiply) form of a model, for sig_tcomp16.
+
+    Parameters
+    ----------
+    model : TcompModel
+        A fitted model (pysig.tcomp.model), in °C or raw codes.
+    max_error_lsb : float, optional
+        The largest accepted |compact correction - float64 delta|, LSB.
+    what : str, optional
+        Names the model in error messages.
+
+    Returns
+    -------
+    CompactModel
+        The fields of sig_tcomp16_init and the error per axis, measured
+        exactly at every step of t over the range against the model's
+        float64 delta.
+
+    Raises
+    ------
+    RangeError
+        Naming the axis and the limit it breaks: order above 5, a range
+        wider than 327.67 °C (order >= 2), a drift whose Horner partial sums
+        the int16 levels cannot hold (sig_tcomp16_init's bound: e.g. a slope
+        of 50 LSB/°C or more), or a measured error above `max_error_lsb`.
+
+    Examples
+    --------
+    >>> from pysig.sim.chamber import ChamberParams, simulate
+    >>> from pysig.tcomp.fit import fit_tcomp
+    >>> run = simulate(ChamberParams(dwell_s=600.0))
+    >>> compact = quantize_compact(fit_tcomp(run["temp"], {"x": run["x"]}, order=2))
+    >>> compact.t_lo, compact.t_hi, compact.top
+    (-19, 7012, (1605,))
+    >>> [round(e, 2) for e in compact.error_lsb]
+    [0.07]
+    >>> quantize_compact(fit_tcomp(run["temp"], {"x": run["x"]}, order=6))
+    Traceback (most recent call last):
+        ...
+    pysig.errors.RangeError: compact form: order 6 is not supported (1..5)
+    """
     from ._tcomp16 import Tcomp16Q
     s = model.scaling
     order = int(model.order)
