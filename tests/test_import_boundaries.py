@@ -11,9 +11,6 @@ import pytest
 
 from conftest import ROOT
 
-REFINE_IMPORTS_SPEC = ("pysig.refine.device still evaluates the refined fixed-point model with "
-                       "pysig.reference.effects (RefinedQ); pysig.refine is being reworked on "
-                       "another branch, which moves that into the library")
 IMPORT_OF_REFERENCE = re.compile(r"^\s*(from\s+(pysig|\.+)\.?reference\b|import\s+pysig\.reference\b)",
                                  re.MULTILINE)
 
@@ -77,19 +74,11 @@ def reference_imports(sources):
             for p in sources for m in IMPORT_OF_REFERENCE.finditer(p.read_text())]
 
 
-def test_no_library_source_outside_refine_imports_the_reference():
-    library = [p for p in library_sources() if p.relative_to(ROOT / "pysig").parts[0] != "refine"]
+def test_no_library_source_imports_the_reference():
+    library = library_sources()
     assert len(library) > 30
     offenders = reference_imports(library)
     assert offenders == [], "library code imports pysig.reference: " + ", ".join(offenders)
-
-
-@pytest.mark.xfail(strict=False, reason=REFINE_IMPORTS_SPEC)
-def test_no_refine_source_imports_the_reference():
-    refine = library_sources("refine")
-    assert len(refine) > 3
-    offenders = reference_imports(refine)
-    assert offenders == [], "pysig.refine imports pysig.reference: " + ", ".join(offenders)
 
 
 def _sources(folder, *patterns):
