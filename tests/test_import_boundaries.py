@@ -7,7 +7,6 @@ import subprocess
 import sys
 from pathlib import Path
 
-
 from conftest import ROOT
 
 IMPORT_OF_REFERENCE = re.compile(r"^\s*(from\s+(pysig|\.+)\.?reference\b|import\s+pysig\.reference\b)",
