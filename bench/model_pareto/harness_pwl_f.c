@@ -6,7 +6,6 @@
 #include "../mcu/harness/bench_marks.h"   /* NOINLINE and the marker functions */
 #include "sig_pwl.h"
 #include "pareto_case.h"
-#include "../mcu/harness/bench_marks.h"
 
 sig_real table[N_KNOTS] = TABLE_F;
 sig_real temps[N_TEMPS] = TEMPS_F;

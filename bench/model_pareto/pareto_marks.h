@@ -11,10 +11,7 @@
 
 #include "../mcu/harness/bench_marks.h"
 
-NOINLINE void bench_axis1(void) { bench_mark = 2; }
-NOINLINE void bench_axis2(void) { bench_mark = 3; }
-NOINLINE void bench_null_start(void) { bench_mark = 5; }
-NOINLINE void bench_null_stop(void) { bench_mark = 6; }
+/* bench_axis1, bench_axis2, bench_null_start, bench_null_stop: bench_marks.h */
 
 NOINLINE static void run_axis(uint8_t a);
 NOINLINE static void run_null(uint8_t a);

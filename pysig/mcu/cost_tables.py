@@ -7,14 +7,21 @@ Each row function returns a JSON-ready dict: code bytes (the function's call
 tree, helpers apart), RAM (state + stack high-water), cycles per call and in
 a batch, time and energy (MSP430F5510 at MCLK_HZ, I_ACTIVE_A), and next to
 it an operation-count model read off the algorithm (tcomp_ops, chain_ops).
-bench/mcu_cost.py prints them as its two tables.  Images built here are kept
+Beside the portable C, the port-layer paths of csrc/port/: the "fixed16_asm"
+rows (sig_tcomp16_apply_msp430), the uniform-table lookup of Table 1b
+(pwl_row: sig_pwl_eval_q16 against sig_pwl_eval_msp430 and the per-image
+sig_pwl_eval_axes_msp430) and the 8051 chain of csrc/port/mcs51
+(chain_row_mcs51_port: steady-state and motion-restart steps).
+bench/mcu_cost.py prints them as its tables.  Images built here are kept
 in IMAGES for profiling.
 """
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
-from . import runner, tcomp16_vectors, vectors
+from . import pwl_vectors, runner, tcomp16_vectors, vectors
 
 CSRC = runner.CSRC
 HARNESS = runner.MCU_DIR / "harness"
@@ -29,7 +36,12 @@ MCS51_HZ = 12_000_000
 AXES = 3
 
 IMAGES = {}                  # (what, form, hwmult) -> (image, instructions): for profiles
-TARGETS = {"tcomp_q2_hw_cycles": 300, "tcomp_float_over_fixed": 10.0, "chain_q_8051_clocks": 3000}
+TARGETS = {"tcomp_q2_hw_cycles": 300, "tcomp_float_over_fixed": 10.0, "chain_q_8051_clocks": 3000,
+           "table_lookup_cycles_per_axis": 100}
+TCOMP16_ASM = CSRC / "port" / "msp430" / "sig_tcomp16_msp430.S"
+PWL_ASM = CSRC / "port" / "msp430" / "sig_pwl_msp430.S"
+CHAIN_MCS51 = CSRC / "port" / "mcs51" / "sig_chain_mcs51.c"
+ASM_DEFINES = {"MPY_BASE": runner.MSP430_MPY_BASE_SIM}
 
 
 # ------------------------------------------------------ operation models ---
@@ -134,22 +146,26 @@ def tcomp_row(order: int, form: str, hwmult: bool, vdd: float) -> dict:
             "ops": tcomp_ops(form, order), "checked_vectors": n}
 
 
-def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False) -> dict:
+def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False,
+                asm: bool = False) -> dict:
     """The compact form (csrc/tcomp/sig_tcomp16.c) on the same temperatures and
     readings as tcomp_row, the same polynomial quantised by
-    pysig.tcomp.quant.quantize_compact (bench/mcu/tcomp16_vectors.py), checked
+    pysig.tcomp.quant.quantize_compact (pysig.mcu.tcomp16_vectors), checked
     against the host C before the row is returned.  inline: the same C with
     the sig_port.h hooks of csrc/port/msp430/sig_port_msp430.h (multiplier
-    MAC/MACS as volatile accesses, hw only)."""
+    MAC/MACS as volatile accesses, hw only).  asm: the port layer's assembly
+    form csrc/port/msp430/sig_tcomp16_msp430.S (hw only)."""
     case = tcomp16_vectors.tcomp16_case(order)
     gen = runner.BUILD_DIR / "gen" / f"tcomp16-o{order}"
     tcomp16_vectors.write_tcomp16_header(case, gen / "tcomp16_vectors.h")
-    func = "sig_tcomp16_apply_q"
-    form = "fixed16_inline" if inline else "fixed16"
-    img = runner.build_msp430(TCOMP16_SRC, HARNESS / "tcomp16_harness.c",
-                              INLINE_DEFINES if inline else [], hwmult=hwmult,
-                              include_dirs=[gen, PORT_MSP430] if inline else [gen],
-                              name=f"tcomp16-o{order}" + ("-inline" if inline else ""))
+    func = "sig_tcomp16_apply_msp430" if asm else "sig_tcomp16_apply_q"
+    form = "fixed16_asm" if asm else "fixed16_inline" if inline else "fixed16"
+    defines = (dict(ASM_DEFINES, TC16_PORT_HEADER='"sig_tcomp16_msp430.h"', TC16_APPLY=func)
+               if asm else INLINE_DEFINES if inline else [])
+    img = runner.build_msp430(TCOMP16_SRC + ([TCOMP16_ASM] if asm else []),
+                              HARNESS / "tcomp16_harness.c", defines, hwmult=hwmult,
+                              include_dirs=[gen, PORT_MSP430] if (inline or asm) else [gen],
+                              name=f"tcomp16-o{order}" + ("-asm" if asm else "-inline" if inline else ""))
     n, a = case.base.in_q.shape
     r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
                        reads={"vec_out": 2 * n * a, "vec_status": 2 * n})
@@ -160,13 +176,15 @@ def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False) -> d
         raise SystemExit(f"tcomp16 order {order} {form}: firmware results differ from the host C")
     IMAGES[(form, order, hwmult)] = (img, r["funcs"][func]["instructions"])
     clos = runner.code_closure(img, func)
-    if inline and any(runner.is_helper(k) for k in clos):
+    if (inline or asm) and any(runner.is_helper(k) for k in clos):
         raise SystemExit(f"tcomp16 order {order} {form}: the port hooks did not take effect ({clos})")
     one = r["funcs"][func]
     model_bytes = runner.symbol_size(img, "model")
     t_us = one["cycles"] / MCLK_HZ * 1e6
     return {"target": "msp430f5510", "form": form, "order": order,
-            "multiplier": ("hw inline MAC/MACS (sig_port_msp430.h, 16x16 MPY at 0x0130 in the "
+            "multiplier": ("hw, assembly MAC/MACS (csrc/port/msp430/sig_tcomp16_msp430.S, "
+                           "16x16 MPY at 0x0130 in the simulator)" if asm else
+                           "hw inline MAC/MACS (sig_port_msp430.h, 16x16 MPY at 0x0130 in the "
                            "simulator)" if inline else
                            "hw (16x16 MPY at 0x0130 in the simulator)" if hwmult else "none"),
             "text_bytes": sum(v for k, v in clos.items() if not runner.is_helper(k)),
@@ -176,28 +194,33 @@ def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False) -> d
             "cycles": one["cycles"], "instructions": one["instructions"],
             "cycles_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
             "time_us": round(t_us, 2), "energy_uj": round(I_ACTIVE_A * vdd * t_us, 4),
-            "ops": tcomp_ops(form, order), "checked_vectors": n,
+            "ops": tcomp_ops("fixed16_inline" if asm else form, order), "checked_vectors": n,
             "drift_amplitude_lsb": round(case.amplitude, 1),
             "compact_error_lsb": round(max(case.compact.error_lsb), 4)}
 
 
+def _chain_tag(case):
+    """build names per preset ("" for the table's reference preset)"""
+    return "" if case.preset == vectors.CHAIN_PRESET else f"-{case.preset}"
+
+
 def chain_rows_msp430(form: str, hwmult: bool, case, vdd: float) -> dict:
-    gen = runner.BUILD_DIR / "gen" / "chain"
+    gen = runner.BUILD_DIR / "gen" / f"chain{_chain_tag(case)}"
     vectors.write_chain_header(case, gen / "chain_vectors.h")
     fl = form == "float"
     func = "sig_chain_step_f" if fl else "sig_chain_step_q"
     img = runner.build_msp430(CHAIN_SRC, HARNESS / "chain_harness.c", ["BENCH_FLOAT"] if fl else [],
-                              hwmult=hwmult, include_dirs=[gen], name=f"chain-{form}")
+                              hwmult=hwmult, include_dirs=[gen], name=f"chain{_chain_tag(case)}-{form}")
     n = len(case.x)
     r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
                        reads={"vec_out": 4 * n, "vec_status": 2 * n})
     _check_chain(case, form, r["reads"])
-    IMAGES[("chain", form, hwmult)] = (img, r["funcs"][func]["instructions"])
+    IMAGES[("chain" + _chain_tag(case), form, hwmult)] = (img, r["funcs"][func]["instructions"])
     clos = runner.code_closure(img, func)
     one = r["funcs"][func]
     state = runner.symbol_size(img, "chain")
     t_us = one["cycles"] / MCLK_HZ * 1e6
-    return {"target": "msp430f5510", "form": form,
+    return {"target": "msp430f5510", "form": form, "preset": case.preset,
             "multiplier": "hw (16x16 MPY at 0x0130 in the simulator)" if hwmult else "none",
             "cycles": one["cycles"], "instructions": one["instructions"],
             "cycles_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
@@ -224,6 +247,19 @@ def _check_chain(case, form, reads):
 
 
 MCS51_CHAIN_FLAGS = ["--stack-auto"]
+WHAT_3000_TAKES = (
+    "3000 12T clocks are 250 machine cycles, ~170 instructions.  The port's steady step "
+    "is sdcc C: every 32-bit operation on the indirect-RAM state (sample - base, the "
+    "window sum, m*128 + base, the innovation, x += inc, the zero-tracking offset and "
+    "x - offset) costs 20-40 instructions, and its three 16x16 products (trimmed-mean "
+    "reciprocal, Kalman gain low and high word) 52 machine cycles each in assembly "
+    "(4 MUL AB + carries).  An estimate for the same algorithm in hand-written 8051 "
+    "assembly with the hot state in direct RAM: ~460 machine cycles (~5500 clocks), of "
+    "which the products ~160.  Under 3000 needs fewer products as well: the Kalman "
+    "update as one 16x8 product (a steady gain rounded to 8 bits is not bit-exact with "
+    "the portable chain, so the reference would have to change), the trimmed mean kept "
+    "as quotient and remainder updated by the window's change (no division), and the "
+    "output side (zero tracking, x - offset) in 16 bits around a base like the window.")
 
 
 def chain_row_mcs51(form: str, case) -> dict:
@@ -234,16 +270,16 @@ def chain_row_mcs51(form: str, case) -> dict:
     opcode histogram x STC-Y5 table.  Code: the functions reachable from the
     step (.rst call graph); RAM: chain state (xdata) + internal-RAM stack
     high-water of the call."""
-    gen = runner.BUILD_DIR / "gen" / "chain"
+    gen = runner.BUILD_DIR / "gen" / f"chain{_chain_tag(case)}"
     vectors.write_chain_header(case, gen / "chain_vectors.h")
     fl = form == "float"
     func = "sig_chain_step_f" if fl else "sig_chain_step_q"
     row = {"target": "8051 (s51 -t C52, sdcc --model-large --stack-auto)", "form": form,
-           "ops": chain_ops(form)}
+           "preset": case.preset, "ops": chain_ops(form)}
     try:
         img = runner.build_mcs51(CHAIN_SRC, HARNESS / "chain_harness.c",
                                  ["BENCH_FLOAT"] if fl else [], include_dirs=[gen],
-                                 name=f"chain-{form}", extra_flags=MCS51_CHAIN_FLAGS)
+                                 name=f"chain{_chain_tag(case)}-{form}", extra_flags=MCS51_CHAIN_FLAGS)
     except runner.McuError as e:
         row.update(status="does not build", error=[ln for ln in str(e).splitlines()
                                                     if "ASlink-Error" in ln or "warning" in ln])
@@ -254,7 +290,7 @@ def chain_row_mcs51(form: str, case) -> dict:
     if r["total"].get("stack_overflow"):
         raise SystemExit(f"chain {form} on the 8051: the stack passed 0xFF (s51)")
     _check_chain(case, form, r["reads"])
-    IMAGES[("chain", form, "mcs51")] = (img, r["funcs"][func]["instructions"])
+    IMAGES[("chain" + _chain_tag(case), form, "mcs51")] = (img, r["funcs"][func]["instructions"])
     one = r["funcs"][func]
     clos = runner.code_closure(img, func)
     state = _mcs51_xdata_size(img, "chain")
@@ -273,11 +309,150 @@ def chain_row_mcs51(form: str, case) -> dict:
     return row
 
 
+def _mcs51_ds_size(img, module: str, name: str) -> int:
+    """bytes sdcc reserved for a variable (.ds in the module's .asm)."""
+    m = re.search(r"^_%s::\s*\n\s*\.ds (\d+)" % re.escape(name),
+                  (img.path.parent / f"{module}.asm").read_text(), re.M)
+    if not m:
+        raise SystemExit(f"{name}: no .ds in {module}.asm")
+    return int(m.group(1))
+
+
 def _mcs51_xdata_size(img, name: str) -> int:
     """bytes of an xdata variable: distance to the next xdata symbol (.map)."""
     xs = sorted(a for sp, a in img.symbols.values() if sp == "xram")
     a = img.symbols["_" + name][1]
     return next(x for x in xs if x > a) - a
+
+
+# ------------------------------------------------------ table lookup (1b) ---
+PWL_FORMS = (
+    # (form, entry, port header define, value_frac of the three tables)
+    ("portable", "sig_pwl_eval_q16", None, (9, 4, 1)),
+    ("asm", "sig_pwl_eval_msp430", "PW_EVAL", (9, 4, 1)),
+    ("asm_axes", "sig_pwl_eval_axes_msp430", "PW_EVAL_AXES", (9, 4, 1)),
+    ("asm_axes", "sig_pwl_eval_axes_msp430", "PW_EVAL_AXES", (4, 4, 4)),
+)
+
+
+def pwl_row(form, entry, macro, vfs, vdd, spacing_shift=8):
+    """One uniform-table lookup build: three tables over the compensation's
+    range with knots 2^spacing_shift units (2.56 degC) apart, one per output
+    scaling (value_frac > 4, 4, < 4) or all value_frac 4 (no output shift).
+    Every output and status of the batch is checked against the host C
+    sig_pwl_eval_q16.  cycles_per_axis: one call (entry to return) / axes
+    it evaluates; batch: region cycles / (temperatures x axes), loop
+    included."""
+    case = pwl_vectors.pwl_case(spacing_shift=spacing_shift, value_frac=vfs)
+    tag = f"pwl-{form}-{''.join(map(str, vfs))}"
+    gen = runner.BUILD_DIR / "gen" / tag
+    pwl_vectors.write_pwl_header(case, gen / "pwl_vectors.h")
+    src = [runner.c_source("sig_pwl")] + ([PWL_ASM] if macro else [])
+    defines = dict(ASM_DEFINES, PW_PORT_HEADER='"sig_pwl_msp430.h"', **{macro: entry}) if macro else {}
+    img = runner.build_msp430(src, HARNESS / "pwl_harness.c", defines, hwmult=True,
+                              include_dirs=[gen, PORT_MSP430], name=tag)
+    n = len(case.temps)
+    axes_call = macro == "PW_EVAL_AXES"
+    reads = ({"vec_out3": 12 * n, "vec_status3": 2 * n} if axes_call
+             else {"vec_out": 12 * n, "vec_status": 6 * n})
+    r = runner.measure(img, funcs=[entry], regions=["bench_start:bench_stop"], reads=reads)
+    h_out, h_st = pwl_vectors.host_eval(case)
+    if axes_call:
+        fw = np.frombuffer(r["reads"]["vec_out3"], "<i4").reshape(n, 3).T
+        ok = np.array_equal(fw, h_out) and np.array_equal(_i16(r["reads"]["vec_status3"]), h_st[0])
+    else:
+        fw = np.frombuffer(r["reads"]["vec_out"], "<i4").reshape(3, n)
+        ok = np.array_equal(fw, h_out) and np.array_equal(_i16(r["reads"]["vec_status"]).reshape(3, n), h_st)
+    if not ok:
+        raise SystemExit(f"table lookup {form} {vfs}: firmware results differ from the host C")
+    one = r["funcs"][entry]
+    per_call_axes = 3 if axes_call else 1
+    clos = runner.code_closure(img, entry)
+    cyc = one["cycles"] / per_call_axes
+    return {"target": "msp430f5510", "form": form, "entry": entry, "value_frac": list(vfs),
+            "n_knots": case.n_knots, "knot_spacing": 1 << spacing_shift,
+            "multiplier": "hw (16x16 MPY at 0x0130 in the simulator)",
+            "cycles_call": one["cycles"], "axes_per_call": per_call_axes,
+            "cycles_per_axis": round(cyc, 1), "instructions": one["instructions"],
+            "cycles_per_axis_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / (3 * n), 1),
+            "time_us_per_axis": round(cyc / MCLK_HZ * 1e6, 2),
+            "energy_uj_per_axis": round(I_ACTIVE_A * vdd * cyc / MCLK_HZ * 1e6, 4),
+            "text_bytes": sum(v for k, v in clos.items() if not runner.is_helper(k)),
+            "stack_bytes": one["stack_bytes"], "checked_values": 3 * n}
+
+
+def table1b(vdd):
+    """Table 1b: the rows of every PWL_FORMS build (pwl_row)."""
+    return [pwl_row(f, e, m, v, vdd) for f, e, m, v in PWL_FORMS]
+
+
+# ------------------------------------------------------ 8051 chain port ---
+MCS51_PORT_FLAGS = []      # plain --model-large: the port's state is placed by hand
+CHAIN_PORT_N = 700         # long enough for the Kalman gain to settle after the last restart
+
+
+def chain_row_mcs51_port(case=None) -> tuple:
+    """The 8051 chain of csrc/port/mcs51 (sdcc --model-large, no
+    --stack-auto: hot state in indirect RAM, window and configuration in
+    xdata, the gain table in code memory).  Bit for bit against the host C
+    of the portable chain on CHAIN_PORT_N samples (two load changes, impulses,
+    a lock-out re-seed), then: the steady-state step (sample N+1, gain
+    settled) and the motion-restart step, each counted entry to return."""
+    from pysig.mcu._chain_mcs51 import gain_table
+    case = case or vectors.chain_case(n=CHAIN_PORT_N)
+    gains = gain_table(case.fixed["q_q30"], case.fixed["p0_q16"])
+    gen = runner.BUILD_DIR / "gen" / "chain-mcs51"
+    vectors.write_chain_mcs51_header(case, gains, gen / "chain_vectors.h")
+    img = runner.build_mcs51([CHAIN_MCS51], HARNESS / "chain_mcs51_harness.c", [],
+                             include_dirs=[gen, CHAIN_MCS51.parent], name="chain-mcs51",
+                             extra_flags=MCS51_PORT_FLAGS)
+    n = len(case.x)
+    steady, restart = "sig_chain_mcs51_step", "sig_chain_mcs51_step@restart_step"
+    r = runner.measure(img, funcs=[steady, restart], regions=["bench_start:bench_stop"],
+                       reads={"vec_out": 4 * n, "vec_status": 2 * n, "vec_stable": n,
+                              "restart_status": 2, "one_status": 2})
+    if r["total"].get("stack_overflow"):
+        raise SystemExit("8051 chain port: the stack passed 0xFF (s51)")
+    _check_chain(case, "fixed", r["reads"])
+    if not (_i16(r["reads"]["restart_status"])[0] & 32):
+        raise SystemExit("8051 chain port: the restart step did not restart (no SIG_CHAIN_MOTION)")
+    IMAGES[("chain", "fixed", "mcs51-port")] = (img, r["funcs"][steady]["instructions"])
+    one, rs = r["funcs"][steady], r["funcs"][restart]
+    clos = runner.code_closure(img, "sig_chain_mcs51_step")
+    state = {v: _mcs51_ds_size(img, "sig_chain_mcs51", v) for v in
+             ("sig_chain_mcs51", "sig_chain_mcs51_cfg", "sig_chain_mcs51_window")}
+    row = {"target": "8051 (s51 -t C52, sdcc --model-large, csrc/port/mcs51)", "form": "fixed_port",
+           "status": "ok", "clocks_12T": one["cycles"], "instructions": one["instructions"],
+           "clocks_12T_restart": rs["cycles"], "clocks_1T_estimate_restart": rs["clocks_1t_stc_y5"],
+           "clocks_12T_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
+           "ms_12MHz_12T": round(one["cycles"] / MCS51_HZ * 1e3, 3),
+           "clocks_1T_estimate": one["clocks_1t_stc_y5"],
+           "us_1T_estimate_12MHz": round(one["clocks_1t_stc_y5"] / MCS51_HZ * 1e6, 1),
+           "code_bytes_fetched": one["code_bytes_fetched"],
+           "text_bytes": sum(v for k, v in clos.items() if not runner.is_helper(k)),
+           "helper_bytes": sum(v for k, v in clos.items() if runner.is_helper(k)),
+           "gain_table_bytes": 4 * len(gains), "gain_steps": len(gains),
+           "state_bytes_idata": state["sig_chain_mcs51"],
+           "state_bytes_xdata": state["sig_chain_mcs51_cfg"] + state["sig_chain_mcs51_window"],
+           "stack_bytes": one["stack_bytes"],
+           "max_sp_batch": hex(r["total"]["max_sp"]) if "max_sp" in r["total"] else None,
+           "checked_samples": n, "ops": chain_ops("fixed")}
+    return row, img
+
+
+def estimator_cost(t2):
+    """auto rows: their step (one call on the settled chain, and the batch
+    average) over the same target's and form's recommended step - 1, set in
+    place as auto_over_recommended and auto_over_recommended_batch."""
+    def key(r):
+        return (r["target"], r.get("multiplier"), r["form"])
+    ref = {key(r): r for r in t2 if r.get("preset") == vectors.CHAIN_PRESET and r.get("status", "ok") == "ok"}
+    for r in t2:
+        base = ref.get(key(r))
+        if r.get("preset") == "auto" and base and r.get("status", "ok") == "ok":
+            c = "clocks_12T" if "clocks_12T" in r else "cycles"
+            r["auto_over_recommended"] = round(r[c] / base[c] - 1.0, 3)
+            r["auto_over_recommended_batch"] = round(r[c + "_avg_batch"] / base[c + "_avg_batch"] - 1.0, 3)
 
 
 def tcomp_fast_row(order: int, vdd: float) -> dict:

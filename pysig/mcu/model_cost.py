@@ -21,7 +21,7 @@ import subprocess
 
 import numpy as np
 
-from . import runner
+from . import pwl_vectors, runner
 
 HARNESS_DIR = runner.ROOT / "bench" / "model_pareto"
 N_TEMPS = 16
@@ -168,3 +168,37 @@ def mcu_pwl(tag, tabs, n_knots):
             raise ModelMismatchError(f"{tag}: MSP430 result differs from the host C on axis {a}: "
                                      f"{m['out'][a]} vs {host}")
     return m
+
+
+def mcu_pwl2(tag, tabs):
+    """sig_pwl_eval_axes_msp430 (MSP430 assembly, csrc/port/msp430) on three
+    power-of-two tables of pysig.tcomp.pareto.pwl2_models(): cycles of one
+    call / 3 (the assembly's cost hardly depends on the temperature: one
+    index product, no search); raises ModelMismatchError unless every output
+    of N_TEMPS temperatures equals the host C's."""
+    temps = mcu_temps(tabs[0].t_lo, tabs[0].t_hi)
+    case = pwl_vectors.PwlCase(np.array([t.table for t in tabs]), tuple(t.value_frac for t in tabs),
+                               tabs[0].t_lo, tabs[0].t_hi, tabs[0].recip,
+                               np.asarray(temps, dtype=np.int16), int(temps[len(temps) // 2]))
+    d = case_dir(tag)
+    pwl_vectors.write_pwl_header(case, d / "pwl_vectors.h")
+    harness = runner.ROOT / "bench" / "mcu" / "harness" / "pwl_harness.c"
+    asm = runner.CSRC / "port" / "msp430" / "sig_pwl_msp430.S"
+    entry = "sig_pwl_eval_axes_msp430"
+    img = runner.build_msp430([runner.c_source("sig_pwl"), asm], harness,
+                              {"MPY_BASE": runner.MSP430_MPY_BASE_SIM,
+                               "PW_PORT_HEADER": '"sig_pwl_msp430.h"', "PW_EVAL_AXES": entry},
+                              include_dirs=[d, runner.PORT_MSP430], hwmult=True,
+                              name=f"pareto-{tag}")
+    n = len(temps)
+    res = runner.measure(img, funcs=[entry], reads={"vec_out3": 12 * n, "vec_status3": 2 * n},
+                         stack=False)
+    out = np.frombuffer(res["reads"]["vec_out3"], "<i4").reshape(n, 3).T
+    host, hst = pwl_vectors.host_eval(case)
+    if not (np.array_equal(out, host)
+            and np.array_equal(np.frombuffer(res["reads"]["vec_status3"], "<i2"), hst[0])):
+        raise ModelMismatchError(f"{tag}: MSP430 assembly result differs from the host C")
+    one = res["funcs"][entry]["cycles"]
+    text, helper, tree = call_tree_bytes(img, entry)
+    return {"cycles": [one / 3] * 3, "single_call_cycles": one, "text_bytes": text,
+            "helper_bytes": helper, "call_tree": tree}

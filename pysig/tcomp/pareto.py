@@ -30,8 +30,9 @@ from ..sim.chamber import ChamberParams, simulate
 from . import quant
 from ._tcomp import TcompQ
 from .model_select import (CHOICE_TOLERANCE, DEFAULT_BLOCKS, PAPER_ORDER, bin_by_temperature,
-                           choose, four_point_choice, four_point_study, load_curve, score_sizes)
-from .pwl import fit_pwl_q16
+                           choose, cross_validate, four_point_choice, four_point_study,
+                           load_curve, score_sizes)
+from .pwl import PwlQ16, fit_pwl, fit_pwl_q16, quantize_values
 
 POLY_ORDERS = tuple(range(1, 9))
 PWL_KNOTS = (2, 3, 4, 5, 6, 8, 9, 12, 17, 24, 33, 48, 65, 97, 129, 184)
@@ -120,9 +121,53 @@ def pwl_models(curve, n_knots):
             for a in curve.names]
 
 
+TEMP_UNITS_PER_C = 100          # 0.01 degC, as the compensation's temperature input
+
+
+def pow2_grid(temp, n_req, scale=TEMP_UNITS_PER_C):
+    """(t_lo, shift, n): knots 2^shift units apart from the data's first
+    temperature, at least n_req of them (spacing <= span / (n_req - 1)),
+    the last one at or before the data's last temperature."""
+    t_lo = int(np.ceil(float(np.min(temp)) * scale - 1e-9))
+    span = int(np.floor(float(np.max(temp)) * scale + 1e-9)) - t_lo
+    shift = max(0, int(np.floor(np.log2(span / (n_req - 1)))))
+    n = span // (1 << shift) + 1
+    while n > 255:
+        shift += 1
+        n = span // (1 << shift) + 1
+    return t_lo, shift, n
+
+
+def pwl2_fitter(n_req, scale=TEMP_UNITS_PER_C):
+    """fit(temp, y) -> float table on the power-of-two grid (held-out blocks
+    bridged linearly, as for the uniform tables)."""
+    def fit(temp, y):
+        t_lo, shift, n = pow2_grid(temp, n_req, scale)
+        return fit_pwl(temp, y, n, lo=t_lo / scale, hi=(t_lo + (n - 1) * (1 << shift)) / scale,
+                       bridge=True, what=f"power-of-two table of {n} knots")
+    return fit
+
+
+def pwl2_models(curve, n_req, scale=TEMP_UNITS_PER_C):
+    """The deployed fixed-point power-of-two tables (one per axis, shared
+    grid) and the grid's shift."""
+    t_lo, shift, n = pow2_grid(curve.temp, n_req, scale)
+    tabs = []
+    for a in curve.names:
+        f = pwl2_fitter(n_req, scale)(curve.temp, curve.axis(a))
+        table, vf = quantize_values(f.values, what=f"{a} power-of-two table")
+        if vf > 4:      # 1/16 LSB steps are plenty, and value_frac 4 needs no output shift
+            vf = 4
+            table = np.round(np.asarray(f.values) * 16).astype(np.int16)
+        tabs.append(PwlQ16(table=table, t_lo=t_lo, t_hi=t_lo + (n - 1) * (1 << shift),
+                           recip=1 << (32 - shift), value_frac=vf, units_per_c=float(scale),
+                           rms=0.0))
+    return tabs, shift
+
+
 # ------------------------------------------------------------------- rows --
 def run_dataset(name, curve, unit, mcu=True, log=print, poly_orders=POLY_ORDERS,
-                pwl_knots=PWL_KNOTS, n_blocks=DEFAULT_BLOCKS):
+                pwl_knots=PWL_KNOTS, n_blocks=DEFAULT_BLOCKS, port_tables=False):
     """Every row (see the module docstring) of one dataset.
 
     Parameters
@@ -142,6 +187,10 @@ def run_dataset(name, curve, unit, mcu=True, log=print, poly_orders=POLY_ORDERS,
         The polynomial orders and table sizes to compare.
     n_blocks : int
         Temperature blocks of the cross-validation.
+    port_tables : bool
+        Add family ``"pwl2"``: tables with knots a power of two temperature
+        units apart, measured on the MSP430 assembly lookup (three axes per
+        call, cycles / 3); its size is the grid's own knot count.
 
     Returns
     -------
@@ -162,7 +211,7 @@ def run_dataset(name, curve, unit, mcu=True, log=print, poly_orders=POLY_ORDERS,
     [('poly', 2, 'x'), ('poly', 2, 'y')]
     """
     if mcu:
-        from ..mcu.model_cost import energy_uj, mcu_poly, mcu_pwl
+        from ..mcu.model_cost import energy_uj, mcu_poly, mcu_pwl, mcu_pwl2
     rows = []
     temp = curve.temp
     cv = {}
@@ -201,6 +250,34 @@ def run_dataset(name, curve, unit, mcu=True, log=print, poly_orders=POLY_ORDERS,
                        "unit": unit}
                 rows.append(row)
             log(f"  {name} {fam} {size}: {time.time() - t0:.1f} s")
+    done = set()
+    for n_req in pwl_knots if port_tables else ():
+        if n_req > temp.size:
+            continue
+        t0 = time.time()
+        tabs, shift = pwl2_models(curve, n_req)
+        size = tabs[0].n_knots
+        if size in done or size > temp.size:
+            continue
+        done.add(size)
+        meas = mcu_pwl2(f"{name}-pwl2-{size}", tabs) if mcu else None
+        for a, axis in enumerate(curve.names):
+            y = curve.axis(axis)
+            cv_rms, _ = cross_validate(pwl2_fitter(n_req), temp, y, n_blocks)
+            fit_float = pwl2_fitter(n_req)(temp, y)
+            fixed = tabs[a](temp)
+            rows.append({"dataset": name, "family": "pwl2", "size": size, "axis": axis,
+                         "knot_spacing_units": 1 << shift, "cv_rms": cv_rms,
+                         "fit_rms": float(np.sqrt(np.mean((y - fixed) ** 2))),
+                         "fit_rms_float": float(np.sqrt(np.mean((y - fit_float(temp)) ** 2))),
+                         "data_bytes": tabs[0].data_bytes,
+                         "text_bytes": meas["text_bytes"] if meas else None,
+                         "helper_bytes": meas["helper_bytes"] if meas else None,
+                         "cycles": meas["cycles"][a] if meas else None,
+                         "single_call_cycles": meas["single_call_cycles"] if meas else None,
+                         "energy_uj": energy_uj(meas["cycles"][a]) if meas else None,
+                         "unit": unit})
+        log(f"  {name} pwl2 {size} (spacing {1 << shift}): {time.time() - t0:.1f} s")
     return rows
 
 
@@ -213,10 +290,11 @@ def summarise(name, curve, rows):
     for axis in curve.names:
         mine = [r for r in rows if r["axis"] == axis]
         ax = {}
-        for fam in ("poly", "pwl"):
+        for fam in ("poly", "pwl", "pwl2"):
             scores = [type("S", (), {"size": r["size"], "cv_rms": r["cv_rms"]})
                       for r in mine if r["family"] == fam]
-            ax[f"cv_choice_{fam}"] = choose(scores).size
+            if scores:
+                ax[f"cv_choice_{fam}"] = choose(scores).size
         pts, res = four_point_study(curve.temp, curve.axis(axis))
         ax["four_point"] = {"mode": pts.mode, "targets_c": list(pts.targets),
                             "temps_c": [float(curve.temp[i]) for i in pts.index],
@@ -254,8 +332,10 @@ def pareto_front(rows, cost="cycles"):
 
 
 def model_name(r):
-    """'order N' or 'table of N knots' for a row."""
-    return f"order {r['size']}" if r["family"] == "poly" else f"table of {r['size']} knots"
+    """'order N', 'table of N knots' or 'power-of-two table of N knots'."""
+    if r["family"] == "poly":
+        return f"order {r['size']}"
+    return f"{'power-of-two ' if r['family'] == 'pwl2' else ''}table of {r['size']} knots"
 
 
 def cheapest_within(rows, tolerance=CHOICE_TOLERANCE, cost="cycles"):
