@@ -48,17 +48,17 @@ AUTO = "auto"
 # its own R (for example from pysig.weigh.scale.noise_sigma on a still record)
 # and the thresholds follow.
 PRESETS = {
-    # The paper exactly: Q, R, x0, P0, N as published.  A0 is not given in
-    # the paper: 2 kg, just above its largest raw reading error (1.86 kg at
-    # 30 kg), so every reading the paper reports passes and larger pulses are
+    # The weighing paper exactly: Q, R, x0, P0, N as published.  A0 is not given in
+    # the weighing paper: 2 kg, just above its largest raw reading error (1.86 kg at
+    # 30 kg), so every reading the weighing paper reports passes and larger pulses are
     # cut.  The stability step (not given either) is 0.01 kg, one scale
-    # division of a 50 kg / 5000 e scale; count 1 as in the paper.
+    # division of a 50 kg / 5000 e scale; count 1 as in the weighing paper.
     "paper": dict(A0=2.0, window=12, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False,
                   stable_step=0.01, stable_count=1, lockout_n=0,
                   motion_band=0.0, motion_count=1, zero_band=0.0, zero_rate=0.0,
                   A0_sigmas=6.0, motion_sigmas=4.0, noise_auto=False, units_per_kg=1.0),
-    # The paper's chain and parameters (A0 2 kg included) plus the fixes
-    # beyond the paper: the lock-out fix after 5 rejections on one side (3
+    # The weighing paper's chain and parameters (A0 2 kg included) plus the fixes
+    # beyond the weighing paper: the lock-out fix after 5 rejections on one side (3
     # happen by chance when A0 is under 2 sigma of a reading: spurious
     # re-seeds) and motion-aware settling with the band at 4 sigma of the
     # window mean from R, twice in a row.
@@ -71,7 +71,7 @@ PRESETS = {
     # so its default scale is HX711 counts at 1000 counts per lb and its R is
     # that recording's (0.032 kg ~ 70 counts per reading).  Q/R = 1e-3 lets
     # the estimate forget the last swing of a load change within ~3 s (the
-    # paper's 2e-6 remembers it for ~70 s); the Kalman filter starts from the
+    # weighing paper's 2e-6 remembers it for ~70 s); the Kalman filter starts from the
     # first sample; A0 at 6 sigma of a reading and the lock-out fix after 3
     # rejections on one side; motion mode restarts window and P when the
     # window mean leaves the estimate by more than 4 sigma of the mean twice
