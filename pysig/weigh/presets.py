@@ -210,6 +210,9 @@ def _round_int32(name, value):
 def kalman_fixed_params(Q, R, P0, x0):
     """(q_q30, p0_q16, x0_q7) of the fixed Kalman from signal-unit floats."""
     _check(R > 0, "R", R, "must be > 0")
+    # a tiny R makes the ratios overflow to inf, which round() cannot take
+    _check(math.isfinite(Q / R * Q30), "Q", Q, "fixed point needs 0 <= Q/R <= 1")
+    _check(math.isfinite(P0 / R * 65536), "P0", P0, "fixed point needs 0 <= P0/R <= 16384")
     q = round(Q / R * Q30)
     p0 = round(P0 / R * 65536)
     _check(0 <= q <= Q_MAX_Q30, "Q", Q, "fixed point needs 0 <= Q/R <= 1")
