@@ -54,7 +54,7 @@ def demo(path, out_dir, channel):
     print()
     print(_table(res["rows"]))
     print()
-    print("  paper_chain: the paper's parameters; its limit filter (A0 = 2 kg) refuses each 10-lb step.")
+    print("  paper_chain: the weighing paper's parameters; its limit filter (A0 = 2 kg) refuses each 10-lb step.")
     print("  recommended: lock-out fix, motion-aware settling, zero tracking; thresholds from a fixed R.")
     print("  auto: the default, Chain(): the same with every threshold following the noise it measures.")
     png = os.path.join(out_dir, f"pysig_demo_{channel}.png")

@@ -16,7 +16,7 @@ measures the noise on the fly and every threshold (A0, motion band,
 stability step, zero-tracking band and rate) follows it; an explicit --R
 (signal units squared) fixes the noise instead.  `recommended` is tuned
 on a real HX711 recording and expects HX711-class counts (1000 counts per
-lb) unless --units-per-kg says otherwise; `paper` reproduces the paper's
+lb) unless --units-per-kg says otherwise; `paper` reproduces the weighing paper's
 parameters exactly (kg signal by default).  Every parameter option is in kg (variances in kg^2) and is
 converted to signal units with --units-per-kg.  The presets `recommended`
 and `adaptive` derive their thresholds from --R, the variance of one reading
