@@ -2,7 +2,7 @@
 two load cells, 10-lb steps 0 -> 40 -> 0 lb put on by hand, ~1000 counts/lb,
 read glitches near -2^23).  Behaviour with margins, not exact numbers:
 the recommended preset and the default (auto) let no glitch through, reaches every
-plateau and settles; the paper's parameters lock out on the first step.
+plateau and settles; the weighing paper's parameters lock out on the first step.
 
 Measured when this test was written (float and fixed alike): settle times
 lc1 1.4-5.8 s (median 2.9 s), lc2 1.4-4.0 s (median 2.5 s) from the
