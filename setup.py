@@ -17,8 +17,11 @@ CORE_SOURCES = sorted(os.path.relpath(p, HERE) for p in glob.glob(os.path.join(H
 CORE_MACROS = [("SIG_REAL_DOUBLE", "1")]
 CFLAGS = ["-O2", "-std=c99", "-fPIC"]
 
+# Every header is an input of every core object: a header edit rebuilds the core.
+CORE_HEADERS = sorted(os.path.relpath(p, HERE) for p in glob.glob(os.path.join(HERE, "csrc", "**", "*.h"),
+                                                                 recursive=True))
 sigcore = ("sigcore", {"sources": CORE_SOURCES, "include_dirs": [CSRC_INCLUDE],
-                       "macros": CORE_MACROS, "cflags": CFLAGS})
+                       "macros": CORE_MACROS, "cflags": CFLAGS, "obj_deps": {"": CORE_HEADERS}})
 
 
 class build_ext_with_core(build_ext):
@@ -27,6 +30,12 @@ class build_ext_with_core(build_ext):
 
     def run(self):
         self.run_command("build_clib")
+        # An extension must relink when the core changes, not only when its
+        # own .pyx does: the static library is one of its inputs.
+        clib = self.get_finalized_command("build_clib")
+        core = clib.compiler.library_filename("sigcore", output_dir=clib.build_clib)
+        for ext in self.extensions:
+            ext.depends = [*ext.depends, core]
         super().run()
 
 
