@@ -59,13 +59,13 @@ def validate(buf):
 def sections(buf):
     """[(type, payload bytes)] of a valid image, in order."""
     buf = bytes(buf)
-    end = struct.unpack_from("<H", buf, 6)[0] - CRC_LEN
-    out, pos = [], HEADER_LEN
-    while pos < end:
-        typ, plen = struct.unpack_from("<HH", buf, pos)
-        out.append((typ, buf[pos + SECTION_HDR_LEN:pos + SECTION_HDR_LEN + plen]))
-        pos += SECTION_HDR_LEN + plen
-    return out
+    rest = buf[HEADER_LEN:struct.unpack_from("<H", buf, 6)[0] - CRC_LEN]
+    found = []
+    while rest:
+        typ, plen = struct.unpack_from("<HH", rest)
+        found.append((typ, rest[SECTION_HDR_LEN:][:plen]))
+        rest = rest[SECTION_HDR_LEN + plen:]
+    return found
 
 
 def sequence(buf):
@@ -115,12 +115,12 @@ COMPACT_POLY_FIXED_LEN = 8     # u8 n_axes, u8 order, u8 w_shift, u8 0, i16 t_lo
 def compact_payload(fields):
     """Payload bytes for the fields of sig_tcomp16_init (a dict: top, add per
     axis in evaluation order, t_lo, t_hi, w_shift); the writer's spec."""
-    order = len(fields["add"][0])
-    out = struct.pack("<BBBBhh", len(fields["top"]), order, fields["w_shift"], 0,
-                      fields["t_lo"], fields["t_hi"])
+    axes, order = len(fields["top"]), len(fields["add"][0])
+    layout = "<BBBBhh" + f"h{order}i" * axes       # header, then per axis: top, add[order]
+    values = [axes, order, fields["w_shift"], 0, fields["t_lo"], fields["t_hi"]]
     for top, add in zip(fields["top"], fields["add"]):
-        out += struct.pack(f"<h{order}i", top, *add)
-    return out
+        values += [top, *add]
+    return struct.pack(layout, *values)
 
 
 def load_compact(buf):

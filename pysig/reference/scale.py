@@ -59,16 +59,16 @@ def quantize(offset, gain, out_frac=OUT_FRAC):
     offset, gain = float(offset), float(gain)
     if not (np.isfinite(offset) and np.isfinite(gain)) or gain == 0.0:
         raise RangeError(f"scale quantize: offset {offset!r} and gain {gain!r} must be finite, gain != 0")
-    off = int(round(offset))
-    if not INT32_MIN <= off <= INT32_MAX:
+    off = round(offset)
+    if off < INT32_MIN or off > INT32_MAX:
         raise RangeError(f"scale quantize: offset {offset!r} counts does not fit int32")
     target = gain * 2.0 ** out_frac
-    if abs(round(target)) > INT32_MAX:
+    # the definition: the largest shift whose rounded mantissa fits int32
+    fitting = [k for k in range(MAX_SHIFT + 1) if abs(round(target * 2.0 ** k)) <= INT32_MAX]
+    if not fitting:
         raise RangeError(f"scale quantize: gain {gain!r} unit/count is too large for a Q{out_frac} output")
-    shift = 0
-    while shift < MAX_SHIFT and abs(round(target * 2.0 ** (shift + 1))) <= INT32_MAX:
-        shift += 1
-    mant = int(round(target * 2.0 ** shift))
+    shift = max(fitting)
+    mant = round(target * 2.0 ** shift)
     if mant == 0:
         raise RangeError(f"scale quantize: gain {gain!r} unit/count underflows the Q{out_frac} image")
     return off, mant, shift
