@@ -39,15 +39,22 @@ class PolyFit:
         return p.convert().coef
 
 
-def _check(x, y, order, what):
+def finite_pairs(x, y, what, names=("x", "y")):
+    """x and y as flat float arrays of one length with no NaN or inf; a
+    ValueError or NonFiniteError naming `what`, the series and the index."""
     x = np.asarray(x, dtype=float).ravel()
     y = np.asarray(y, dtype=float).ravel()
     if x.shape != y.shape:
-        raise ValueError(f"{what}: x and y differ in length ({x.size} vs {y.size})")
-    for name, arr in (("x", x), ("y", y)):
+        raise ValueError(f"{what}: {names[0]} and {names[1]} differ in length ({x.size} vs {y.size})")
+    for name, arr in zip(names, (x, y)):
         bad = np.flatnonzero(~np.isfinite(arr))
         if bad.size:
             raise NonFiniteError(f"{what}: non-finite {name} at index {int(bad[0])}")
+    return x, y
+
+
+def _check(x, y, order, what):
+    x, y = finite_pairs(x, y, what)
     if not (isinstance(order, (int, np.integer)) and order >= 0):
         raise ValueError(f"{what}: order must be a non-negative integer, got {order!r}")
     distinct = np.unique(x).size

@@ -136,7 +136,9 @@ class Family:
         return None
 
     def grid(self, data):
-        return [None]
+        """Values of the nonlinear parameter to try: log-spaced over bounds."""
+        b = self.bounds(data)
+        return [None] if b is None else list(np.geomspace(b[0], b[1], GRID_POINTS))
 
     def bounds(self, data):
         return None
@@ -152,6 +154,15 @@ class Family:
         if self.param_name:
             d[self.param_name] = effect.param
         return d
+
+
+class TimeConstantFamily(Family):
+    """A family whose parameter is a time constant: from half a sample to a
+    third of the recording."""
+    param_name = "tau_s"
+
+    def bounds(self, data):
+        return data.dt * 0.5, max(data.dt * 2.0, data.span_t / 3.0)
 
 
 class GainDrift(Family):
@@ -174,21 +185,13 @@ class GainDrift(Family):
         return np.column_stack(cols), [f"r*u^{j}" for j in range(1, effect.variant + 1)]
 
 
-class ThermalLag(Family):
+class ThermalLag(TimeConstantFamily):
     """The sensor's temperature lags the measured one: every temperature
     term uses T' = first_order_lag(T, tau) instead of T (no columns)."""
     name = "thermal_lag"
-    param_name = "tau_s"
 
     def unavailable(self, data):
         return None if data.T is not None else "no temperature"
-
-    def bounds(self, data):
-        return data.dt * 0.5, max(data.dt * 2.0, data.span_t / 3.0)
-
-    def grid(self, data):
-        lo, hi = self.bounds(data)
-        return list(np.geomspace(lo, hi, GRID_POINTS))
 
     def columns(self, data, T_used, effect):
         return np.empty((data.n, 0)), []
@@ -221,49 +224,29 @@ class Hysteresis(Family):
         span = float(np.ptp(data.T)) or 1.0
         return span * 1e-3, span * 0.3
 
-    def grid(self, data):
-        lo, hi = self.bounds(data)
-        return list(np.geomspace(lo, hi, GRID_POINTS))
-
     def columns(self, data, T_used, effect):
         w = effect.param
         return ((T_used - play_operator(T_used, w, effect.variant)) / w)[:, None], ["branch"]
 
 
-class Creep(Family):
+class Creep(TimeConstantFamily):
     """Output drifts after a load change, proportional to the step:
     c * (lag_tau(r) - r) / |r|max (an exponential approach of time constant tau)."""
     name = "creep"
-    param_name = "tau_s"
 
     def unavailable(self, data):
         return None if data.has_ref else "no varying reference (no load changes)"
-
-    def bounds(self, data):
-        return data.dt * 0.5, max(data.dt * 2.0, data.span_t / 3.0)
-
-    def grid(self, data):
-        lo, hi = self.bounds(data)
-        return list(np.geomspace(lo, hi, GRID_POINTS))
 
     def columns(self, data, T_used, effect):
         z = first_order_lag(data.r, lag_alpha(effect.param, data.dt))
         return ((z - data.r) / data.r_abs)[:, None], ["lag(r)-r"]
 
 
-class WarmUp(Family):
+class WarmUp(TimeConstantFamily):
     """A transient in time since power-on, at any temperature: one
     w_s * exp(-(t - t_s) / tau) column per power-on segment s (files joined
     end to end are separate power-ons), zero before the segment starts."""
     name = "warm_up"
-    param_name = "tau_s"
-
-    def bounds(self, data):
-        return data.dt * 0.5, max(data.dt * 2.0, data.span_t / 3.0)
-
-    def grid(self, data):
-        lo, hi = self.bounds(data)
-        return list(np.geomspace(lo, hi, GRID_POINTS))
 
     def columns(self, data, T_used, effect):
         starts = list(data.segments) + [data.n]

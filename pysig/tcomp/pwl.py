@@ -20,7 +20,7 @@ import struct
 
 from ..errors import InsufficientDataError, ModelFileError, NonFiniteError, RangeError
 from ..store.image import SECTION_PWL_TABLE, build_image, find_section
-from ..lsq import fit_linear_model
+from ..lsq import finite_pairs, fit_linear_model
 
 FRAC_BITS = 12          # SIG_PWL_FRAC_BITS
 MIN_KNOTS = 2
@@ -139,14 +139,7 @@ def params_valid_q16(n_knots, t_lo, t_hi, recip, value_frac):
 
 
 def _check_data(temp, y, what):
-    temp = np.asarray(temp, dtype=float).ravel()
-    y = np.asarray(y, dtype=float).ravel()
-    if temp.shape != y.shape:
-        raise ValueError(f"{what}: temperature and value differ in length ({temp.size} vs {y.size})")
-    for name, arr in (("temperature", temp), ("value", y)):
-        bad = np.flatnonzero(~np.isfinite(arr))
-        if bad.size:
-            raise NonFiniteError(f"{what}: non-finite {name} at index {int(bad[0])}")
+    temp, y = finite_pairs(temp, y, what, names=("temperature", "value"))
     if temp.size == 0:
         raise InsufficientDataError(f"{what}: no data")
     return temp, y
