@@ -12,6 +12,8 @@ Python's >> on negative ints floors.  (The C forms the same numbers with
 16x16-bit products; the identities are in sig_pwl.c.)"""
 import math
 
+from .tcomp import clamp_t
+
 FRAC_BITS = 12
 MIN_KNOTS = 2
 MAX_KNOTS = 255
@@ -35,11 +37,7 @@ def params_valid_q16(n_knots, t_lo, t_hi, recip, value_frac):
 def eval_q16(table, t_lo, t_hi, recip, value_frac, t):
     """(value Q16.16, status) for one int16 temperature t."""
     n = len(table)
-    status = SIG_OK
-    if t < t_lo:
-        t, status = t_lo, SIG_WARN_CLAMPED
-    elif t > t_hi:
-        t, status = t_hi, SIG_WARN_CLAMPED
+    t, status = clamp_t(t, t_lo, t_hi)
     pos = ((t - t_lo) * recip) >> 16
     seg = pos >> 16
     if seg >= n - 1:
@@ -63,11 +61,7 @@ def eval_f(table, t_lo, t_hi, inv_step, t):
     if math.isnan(t):
         return None, -2
     n = len(table)
-    status = SIG_OK
-    if t < t_lo:
-        t, status = t_lo, SIG_WARN_CLAMPED
-    elif t > t_hi:
-        t, status = t_hi, SIG_WARN_CLAMPED
+    t, status = clamp_t(t, t_lo, t_hi)
     pos = (t - t_lo) * inv_step
     seg = int(pos)
     if seg >= n - 1:

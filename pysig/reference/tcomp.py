@@ -25,6 +25,13 @@ MAX_AXES = 3
 MAX_Q = 30
 
 
+def clamp_t(t, t_lo, t_hi):
+    """(t limited to [t_lo, t_hi], SIG_WARN_CLAMPED if it had to move else SIG_OK)."""
+    if t_lo <= t <= t_hi:
+        return t, SIG_OK
+    return min(max(t, t_lo), t_hi), SIG_WARN_CLAMPED
+
+
 def sat32(x):
     return max(INT32_MIN, min(INT32_MAX, x))
 
@@ -61,11 +68,7 @@ def horner_f(coef, u):
 
 def scale_q(t, t_lo, t_hi, t_center, u_mul, u_shift):
     """(u Q0.15, status) of sig_tcomp_scale_q."""
-    status = SIG_OK
-    if t < t_lo:
-        t, status = t_lo, SIG_WARN_CLAMPED
-    elif t > t_hi:
-        t, status = t_hi, SIG_WARN_CLAMPED
+    t, status = clamp_t(t, t_lo, t_hi)
     prod = (t - t_center) * u_mul
     if u_shift > 0:
         prod += 1 << (u_shift - 1)
@@ -107,10 +110,6 @@ def apply_f(model, t, readings):
         return None, SIG_ERR_NONFINITE
     if not all(math.isfinite(x) for x in readings):
         return None, SIG_ERR_NONFINITE
-    status = SIG_OK
-    if t < model["t_lo"]:
-        t, status = model["t_lo"], SIG_WARN_CLAMPED
-    elif t > model["t_hi"]:
-        t, status = model["t_hi"], SIG_WARN_CLAMPED
+    t, status = clamp_t(t, model["t_lo"], model["t_hi"])
     u = (t - model["center"]) * model["inv_scale"]
     return [x - horner_f(list(model["coef"][a]), u) for a, x in enumerate(readings)], status
