@@ -11,6 +11,7 @@ Output is written to a temporary file beside the target and renamed into
 place, so a failure never leaves a partial file (see `atomic_path`).
 Streaming (bounded memory, chunk by chunk) is in pysig.io_stream."""
 import csv
+import json
 import os
 import tempfile
 from contextlib import contextmanager
@@ -21,7 +22,7 @@ import pyarrow.compute as pc
 import pyarrow.csv as pcsv
 import pyarrow.parquet as pq
 
-from .errors import InputFileError, NonFiniteError, OutputFileError
+from .errors import InputFileError, ModelFileError, NonFiniteError, OutputFileError
 
 PARQUET_SUFFIXES = (".parquet", ".pq")
 
@@ -519,3 +520,24 @@ def write_csv(path, columns):
                     pcsv.write_csv(table, fh, write_options=pcsv.WriteOptions(**CSV_WRITE_OPTIONS))
         except OSError as exc:
             raise OutputFileError(f"{path}: cannot write: {exc}") from exc
+
+
+def read_json(path, what):
+    """The JSON document in `path`.
+
+    Raises ModelFileError naming the file when it cannot be read or is not
+    JSON; `what` names the kind of file expected ("JSON model file" ...)."""
+    try:
+        with open(path) as fh:
+            return json.load(fh)
+    except OSError as exc:
+        raise ModelFileError(f"{path}: cannot read: {exc.strerror}") from None
+    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ModelFileError(f"{path}: not a {what}: {exc}") from None
+
+
+def write_json(path, d):
+    """`d` as indented JSON, all or nothing (atomic_output); NaN refused."""
+    text = json.dumps(d, indent=2, allow_nan=False) + "\n"
+    with atomic_output(path) as fh:
+        fh.write(text)

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import lsq
+from ..rails import INT16_RAILS, first_at_rail, saturated_message
 from . import quant
 from ..errors import InsufficientDataError, NonFiniteError, RangeError, SaturationError
 from .model import TcompModel
@@ -34,9 +35,6 @@ MAX_FIT_ORDER = 8
 GAP_C = 0.15
 MAX_SPAN_C = 5.0
 MIN_SHARE = 0.05
-# Readings are int16 sensor codes (the C model corrects int16): a reading at a
-# rail means the sensor clipped and its true value is unknown.
-INT16_RAILS = (-32768.0, 32767.0)
 
 
 @dataclass(frozen=True)
@@ -80,12 +78,11 @@ def temperature_groups(temp, gap=GAP_C, max_span=MAX_SPAN_C, min_share=MIN_SHARE
 
 def first_saturated(y):
     """Index of the first reading at an int16 rail, or None."""
-    hit = np.flatnonzero((y == INT16_RAILS[0]) | (y == INT16_RAILS[1]))
-    return int(hit[0]) if hit.size else None
+    return first_at_rail(y, INT16_RAILS)
 
 
 def saturated_reading(value):
-    return f"{value:.0f} is the int16 rail: the reading saturated (its true value is unknown)"
+    return saturated_message(value, "the int16")
 
 
 def check_inputs(temp, columns, what="fit"):

@@ -23,6 +23,7 @@ import numpy as np
 
 from . import fit as single
 from . import quant
+from ..rails import INT16_RAILS, at_rail
 from .model import TcompModel
 
 CV_TOLERANCE = 0.05        # as pysig.tcomp.fit.select_order
@@ -285,7 +286,7 @@ def fit_fleet(dev, temp, values, devices, axes, model="auto", t0=25.0, max_order
     refuse(samples == 0, "no samples")
     bad_row = ~np.isfinite(temp) | ~np.all(np.isfinite(y), axis=1)
     refuse(np.bincount(dev[bad_row], minlength=D) > 0, "non-finite temperature or reading")
-    sat_row = np.any((y == single.INT16_RAILS[0]) | (y == single.INT16_RAILS[1]), axis=1)
+    sat_row = np.any(at_rail(y, INT16_RAILS), axis=1)
     refuse(np.bincount(dev[sat_row], minlength=D) > 0,
            "a reading at the int16 rail (saturated: its true value is unknown)")
     # rows of refused devices take no part in the sums (their values may be NaN)

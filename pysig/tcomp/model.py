@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ModelFileError, NonFiniteError
-from ..io import atomic_output
+from ..io import read_json, write_json
 from .quant import T_PER_DEGC, TemperatureScaling
 from .tempcode import CELSIUS, TempCode
 
@@ -40,6 +40,12 @@ def checksum(d):
     body = {k: v for k, v in d.items() if k != CHECKSUM_KEY}
     canonical = json.dumps(body, sort_keys=True, separators=(",", ":"), allow_nan=False)
     return "sha256:" + hashlib.sha256(canonical.encode()).hexdigest()
+
+
+def with_checksum(d):
+    """`d` with its checksum field set (what a model file holds)."""
+    d[CHECKSUM_KEY] = checksum(d)
+    return d
 
 
 @dataclass
@@ -173,10 +179,7 @@ class TcompModel:
 
     def save(self, path):
         d = self.to_dict()
-        d[CHECKSUM_KEY] = checksum(d)
-        text = json.dumps(d, indent=2, allow_nan=False) + "\n"
-        with atomic_output(path) as fh:
-            fh.write(text)
+        write_json(path, with_checksum(d))
 
 
 def from_dict(d, where="model", verify_checksum=False):
@@ -259,11 +262,5 @@ def load(path):
         ...
     pysig.errors.ModelFileError: other.json: not a pysig temperature-compensation model ...
     """
-    try:
-        with open(path) as fh:
-            d = json.load(fh)
-    except OSError as exc:
-        raise ModelFileError(f"{path}: cannot read: {exc.strerror}") from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ModelFileError(f"{path}: not a JSON model file: {exc}") from None
+    d = read_json(path, "JSON model file")
     return from_dict(d, where=str(path), verify_checksum=True)

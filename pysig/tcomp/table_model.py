@@ -9,17 +9,16 @@ one share their knots exactly and differ only by the rounding of the entries
 (2^-(value_frac+1)) and of the interpolation fraction (Q0.12).  That error is
 measured, not bounded: at every t of [t_lo, t_hi] the C evaluation is
 compared with the float table (`error_lsb`)."""
-import json
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import _pwl
-from .model import CHECKSUM_KEY, FORMAT, VERSION_TABLES, checksum
+from .model import FORMAT, VERSION_TABLES, with_checksum
 from .pwl import MAX_KNOTS, MIN_KNOTS, _solve, knot_offsets_q16, plan_q16, quantize_values
 from .tempcode import TempCode
 from ..errors import InsufficientDataError, ModelFileError, RangeError
-from ..io import atomic_output
+from ..io import write_json
 
 
 @dataclass
@@ -91,10 +90,7 @@ class TableModel:
 
     def save(self, path):
         d = self.to_dict()
-        d[CHECKSUM_KEY] = checksum(d)
-        text = json.dumps(d, indent=2, allow_nan=False) + "\n"
-        with atomic_output(path) as fh:
-            fh.write(text)
+        write_json(path, with_checksum(d))
 
 
 def from_dict(d, where="model"):

@@ -7,7 +7,6 @@ A model is a pysig.tcomp.model.TcompModel (family "poly") or a
 pysig.tcomp.table_model.TableModel (family "table"); both carry their
 temperature code (pysig.tcomp.tempcode: °C or raw codes) and `value_scale`
 (the firmware's int16 reading = column value * value_scale)."""
-import json
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -16,6 +15,7 @@ from . import auto, fit, quant
 from . import model as poly_model
 from . import table_model
 from .tempcode import CELSIUS, CODE_UINT16, TempCode
+from ..io import read_json
 from ..errors import InputFileError, InsufficientDataError, ModelFileError, RangeError
 from ..store.image import (SECTION_COMPACT_POLY, SECTION_OFFSET_POLY, SECTION_PWL_TABLE, SECTION_TEMP_CODE,
                            TCODE_INT16, TCODE_UINT16, build_image, compact_poly_payload,
@@ -305,13 +305,7 @@ def _fitting_alternative(refused, cands, prep, groups, t0, temp_code, temp_colum
 
 def load(path):
     """A model file of either family (checksum verified); ModelFileError otherwise."""
-    try:
-        with open(path) as fh:
-            d = json.load(fh)
-    except OSError as exc:
-        raise ModelFileError(f"{path}: cannot read: {exc.strerror}") from None
-    except (UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ModelFileError(f"{path}: not a JSON model file: {exc}") from None
+    d = read_json(path, "JSON model file")
     if isinstance(d, dict) and d.get("family") == "table":
         _verify(d, path)
         return table_model.from_dict(d, where=str(path))

@@ -17,8 +17,9 @@ import numpy as np
 from scipy.ndimage import maximum_filter1d, median_filter, minimum_filter1d
 
 from ..errors import InsufficientDataError, ModelFileError, RangeError, SaturationError
-from ..io import atomic_output
+from ..io import atomic_output, read_json
 from ..lsq import fit_poly
+from ..rails import ADC24_RAILS, first_at_rail, saturated_message
 
 MAX_SHIFT = 62                  # sig_scale.h: gain_shift 0..62
 OUT_FRAC = 16                   # Q16.16 output
@@ -123,13 +124,7 @@ SCALE_VERSION = 1
 
 def load_calibration(path):
     """A Calibration saved by Calibration.save; ModelFileError names what is wrong."""
-    try:
-        with open(path) as fh:
-            d = json.load(fh)
-    except OSError as exc:
-        raise ModelFileError(f"{path}: cannot read: {exc.strerror}") from None
-    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
-        raise ModelFileError(f"{path}: not a JSON scale calibration: {exc}") from None
+    d = read_json(path, "JSON scale calibration")
     if not isinstance(d, dict) or d.get("kind") != SCALE_KIND:
         raise ModelFileError(f"{path}: not a scale calibration (kind {d.get('kind') if isinstance(d, dict) else None!r})")
     if d.get("version") != SCALE_VERSION:
@@ -146,19 +141,14 @@ def load_calibration(path):
     return cal
 
 
-# Counts are codes of a 24-bit converter (HX711, ADS1232): a code at a rail
-# means the input was beyond full scale and its true value is unknown.
-ADC24_RAILS = (-8388608.0, 8388607.0)
-
-
+# Counts are codes of a 24-bit converter (pysig.rails).
 def first_saturated(counts):
     """Index of the first count at a 24-bit rail, or None."""
-    hit = np.flatnonzero((counts == ADC24_RAILS[0]) | (counts == ADC24_RAILS[1]))
-    return int(hit[0]) if hit.size else None
+    return first_at_rail(counts, ADC24_RAILS)
 
 
 def saturated_count(value):
-    return f"{value:.0f} is the 24-bit converter's rail: the reading saturated (its true value is unknown)"
+    return saturated_message(value, "the 24-bit converter's")
 
 
 def calibrate(counts, masses, unit="kg"):
