@@ -15,7 +15,6 @@ figures of the README).  The 1-minute load average is recorded.
     python bench/fleet_fit.py --json bench/results/fleet_fit.json [--dask-workers 1 2] [--plot bench/results]
 """
 import argparse
-import json
 import os
 import platform
 import shutil
@@ -24,6 +23,7 @@ import time
 
 import numpy as np
 
+from pysig.io import write_json
 from pysig.tcomp.fleet import fit_fleet
 from pysig.tcomp.fleet_report import DEFAULT_K, fleet_plots, screen, write_fleet
 
@@ -129,8 +129,7 @@ def main():
     print(f"load average {out['load_avg_1min']:.2f} on {out['cpus']} CPUs")
     if args.json:
         os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
-        with open(args.json, "w") as fh:
-            json.dump(out, fh, indent=2)
+        write_json(args.json, out, allow_nan=True)
 
 
 if __name__ == "__main__":

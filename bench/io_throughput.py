@@ -25,7 +25,6 @@ may be shared: the 1-minute load average is recorded beside each row.
     python bench/io_throughput.py --json bench/results/io_throughput.json
 """
 import argparse
-import json
 import os
 import platform
 import shutil
@@ -37,6 +36,8 @@ import time
 import numpy as np
 import pyarrow as pa
 import pyarrow.csv as pcsv
+
+from pysig.io import write_json
 
 FLOOR = """
 import sys
@@ -151,8 +152,7 @@ def main():
            "python": platform.python_version(), "pyarrow": pa.__version__}
     if args.json:
         os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
-        with open(args.json, "w") as fh:
-            json.dump(out, fh, indent=2)
+        write_json(args.json, out, allow_nan=True)
 
 
 if __name__ == "__main__":

@@ -169,27 +169,19 @@ def targets(t1, t2, a, t1b=()):
     def pick(form, order, hw=True):
         return next(r for r in t1 if r["form"] == form and r["order"] == order
                     and (r["multiplier"] != "none") == hw)
+    def under_300(label, r):
+        return {"target": f"{label} order-2, 3 axes, MSP430 hw <= 300 cycles",
+                "measured": r["cycles"], "met": r["cycles"] <= 300}
     checks = []
     if t1 and 2 in _orders(a.orders):
-        q2, f2 = pick("fixed", 2), pick("float", 2)
-        checks.append({"target": "fixed order-2, 3 axes, MSP430 hw <= 300 cycles",
-                       "measured": q2["cycles"], "met": q2["cycles"] <= 300})
-        checks.append({"target": "float/fixed cycles >= 10x (order 2, hw)",
-                       "measured": round(f2["cycles"] / q2["cycles"], 2),
-                       "met": f2["cycles"] >= 10 * q2["cycles"]})
-        c2 = pick("fixed16", 2)
-        checks.append({"target": "fixed16 (compact) order-2, 3 axes, MSP430 hw <= 300 cycles",
-                       "measured": c2["cycles"], "met": c2["cycles"] <= 300})
-        checks.append({"target": "float/fixed16 cycles >= 10x (order 2, hw)",
-                       "measured": round(f2["cycles"] / c2["cycles"], 2),
-                       "met": f2["cycles"] >= 10 * c2["cycles"]})
-        i2 = pick("fixed16_inline", 2)
-        checks.append({"target": "fixed16_inline (compact, port hooks) order-2, 3 axes, MSP430 hw "
-                                 "<= 300 cycles",
-                       "measured": i2["cycles"], "met": i2["cycles"] <= 300})
-        checks.append({"target": "float/fixed16_inline cycles >= 10x (order 2, hw)",
-                       "measured": round(f2["cycles"] / i2["cycles"], 2),
-                       "met": f2["cycles"] >= 10 * i2["cycles"]})
+        f2 = pick("float", 2)
+        for form, label in (("fixed", "fixed"), ("fixed16", "fixed16 (compact)"),
+                            ("fixed16_inline", "fixed16_inline (compact, port hooks)")):
+            r = pick(form, 2)
+            checks.append(under_300(label, r))
+            checks.append({"target": f"float/{form} cycles >= 10x (order 2, hw)",
+                           "measured": round(f2["cycles"] / r["cycles"], 2),
+                           "met": f2["cycles"] >= 10 * r["cycles"]})
     for r in t2:                      # the default's noise estimator on today's fixed step
         if r.get("preset") == "auto" and r["form"] == "fixed" and "auto_over_recommended" in r:
             where = r["target"].split()[0] + (f", {r['multiplier'].split()[0]} multiplier"
@@ -197,10 +189,7 @@ def targets(t1, t2, a, t1b=()):
             checks.append({"target": f"auto (noise measured) adds <= 15 % to the fixed chain step ({where})",
                            "measured": r["auto_over_recommended"], "met": r["auto_over_recommended"] <= 0.15})
     if t1 and 2 in _orders(a.orders) and any(r["form"] == "fixed16_asm" for r in t1):
-        s2 = pick("fixed16_asm", 2)
-        checks.append({"target": "fixed16_asm (compact, csrc/port/msp430 assembly) order-2, 3 axes, "
-                                 "MSP430 hw <= 300 cycles",
-                       "measured": s2["cycles"], "met": s2["cycles"] <= 300})
+        checks.append(under_300("fixed16_asm (compact, csrc/port/msp430 assembly)", pick("fixed16_asm", 2)))
     for r in t1b:
         if r["form"] == "asm_axes":
             vf = ",".join(map(str, r["value_frac"]))

@@ -536,8 +536,9 @@ def read_json(path, what):
         raise ModelFileError(f"{path}: not a {what}: {exc}") from None
 
 
-def write_json(path, d):
-    """`d` as indented JSON, all or nothing (atomic_output); NaN refused."""
-    text = json.dumps(d, indent=2, allow_nan=False) + "\n"
+def write_json(path, d, allow_nan=False):
+    """`d` as indented JSON, all or nothing (atomic_output); NaN refused
+    unless allow_nan (a benchmark's missing figure)."""
+    text = json.dumps(d, indent=2, allow_nan=allow_nan) + "\n"
     with atomic_output(path) as fh:
         fh.write(text)

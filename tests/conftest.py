@@ -40,6 +40,18 @@ def require_tool(*names):
     pytest.skip(msg)
 
 
+def require_target_tools(target):
+    """Skip (or fail in CI) unless the compiler and simulator of `target`
+    ("msp430" or "mcs51") are installed."""
+    if target == "msp430":
+        for t in ("clang-14", "mspdebug"):
+            require_tool(t)
+        require_tool("ld.lld-14", "ld.lld")
+    else:
+        for t in ("sdcc", "s51"):
+            require_tool(t)
+
+
 def require_shared_data(relpath):
     """A recording from ../shared/data; skip outside the workplace layout, fail in CI."""
     path = SHARED_DATA / relpath

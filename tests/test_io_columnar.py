@@ -60,18 +60,24 @@ def test_parquet_wrong_types_and_nulls_are_named(tmp_path, column, needle):
     assert needle in str(err.value) and str(p) in str(err.value)
 
 
-def test_parquet_nonfinite_is_named_by_row(tmp_path):
-    p = tmp_path / "in.parquet"
-    pq.write_table(pa.table({"v": [0.0, np.inf]}), p)
-    with pytest.raises(NonFiniteError, match=r"row 2, column 'v'"):
-        read_csv(p)
+# (file name, how to write the bad file, the reader, the error, what it must say)
+BAD_FILES = {
+    "parquet-nonfinite-row": ("in.parquet", lambda p: pq.write_table(pa.table({"v": [0.0, np.inf]}), p),
+                              read_csv, NonFiniteError, r"row 2, column 'v'"),
+    "not-parquet": ("in.parquet", lambda p: p.write_text("t,v\n0,1\n"),
+                    read_header, InputFileError, "not a Parquet file"),
+    "csv-extra-cells": ("in.csv", lambda p: p.write_text("t,v\n0,1\n1,2,3\n"),
+                        read_table, InputFileError, "row 3: 3 cells, the header has 2"),
+}
 
 
-def test_not_a_parquet_file(tmp_path):
-    p = tmp_path / "in.parquet"
-    p.write_text("t,v\n0,1\n")
-    with pytest.raises(InputFileError, match="not a Parquet file"):
-        read_header(p)
+@pytest.mark.parametrize("case", list(BAD_FILES))
+def test_bad_file_is_named(tmp_path, case):
+    name, write, read, error, match = BAD_FILES[case]
+    p = tmp_path / name
+    write(p)
+    with pytest.raises(error, match=match):
+        read(p)
 
 
 @pytest.mark.parametrize("n_bad", [0, 1, 4097, 99_999])
@@ -83,13 +89,6 @@ def test_bad_cell_found_anywhere_in_a_large_file(tmp_path, n_bad):
     p.write_text("v\n" + "\n".join(values) + "\n")
     with pytest.raises(InputFileError, match=rf"row {n_bad + 2}, column 'v': not a number: '1.2.3'"):
         read_csv(p)
-
-
-def test_row_with_extra_cells_is_named(tmp_path):
-    p = tmp_path / "in.csv"
-    p.write_text("t,v\n0,1\n1,2,3\n")
-    with pytest.raises(InputFileError, match="row 3: 3 cells, the header has 2"):
-        read_table(p)
 
 
 def test_text_columns_stay_text(tmp_path):

@@ -11,7 +11,7 @@ import struct
 import numpy as np
 import pytest
 
-from conftest import ROOT, require_tool
+from conftest import ROOT, require_target_tools
 from pysig.mcu import runner
 from pysig.mcu import vectors
 
@@ -22,16 +22,6 @@ CHAIN_SRC = runner.csrc_sources("sig_chain")     # + limit, antipulse, kalman1, 
 # float32 firmware vs float64 host: |difference| <= REL * max(1, |value|)
 TCOMP_F_REL = 2e-6       # a few float32 ulps of a reading of up to 32768 LSB
 CHAIN_F_REL = 1e-5       # Kalman/trimmed mean in float32 over 200 samples
-
-
-def _tools(target):
-    if target == "msp430":
-        for t in ("clang-14", "mspdebug"):
-            require_tool(t)
-        require_tool("ld.lld-14", "ld.lld")
-    else:
-        for t in ("sdcc", "s51"):
-            require_tool(t)
 
 
 # sdcc --model-large alone links neither csrc/tcomp/sig_tcomp.c + sig_poly.c nor the
@@ -74,7 +64,7 @@ def _tcomp_model_dicts(case):
     ("msp430", True, 2), ("msp430", True, 5), ("msp430", False, 2), ("mcs51", None, 2)],
     ids=["msp430-hw-o2", "msp430-hw-o5", "msp430-sw-o2", "mcs51-o2"])
 def test_tcomp_fixed_firmware_equals_host_and_reference(target, hwmult, order, tmp_path):
-    _tools(target)
+    require_target_tools(target)
     from pysig.tcomp._tcomp import TcompQ
     from pysig.reference import tcomp as ref
     case = vectors.tcomp_case(order)
@@ -103,7 +93,7 @@ def test_tcomp_fixed_firmware_equals_host_and_reference(target, hwmult, order, t
 
 @pytest.mark.parametrize("target", ["msp430", "mcs51"])
 def test_tcomp_float_firmware_within_tolerance(target, tmp_path):
-    _tools(target)
+    require_target_tools(target)
     from pysig.tcomp._tcomp import TcompF
     from pysig.reference import tcomp as ref
     case = vectors.tcomp_case(2)
@@ -138,7 +128,7 @@ def _chain_reads(img, n, real):
 @pytest.mark.parametrize("target,hwmult", [("msp430", True), ("msp430", False), ("mcs51", None)],
                          ids=["msp430-hw", "msp430-sw", "mcs51"])
 def test_chain_fixed_firmware_equals_host_and_reference(target, hwmult, tmp_path):
-    _tools(target)
+    require_target_tools(target)
     from pysig.weigh.chain import Chain
     from pysig.reference.chain import Chain as RefChain
     case = vectors.chain_case()
@@ -156,7 +146,7 @@ def test_chain_fixed_firmware_equals_host_and_reference(target, hwmult, tmp_path
 
 @pytest.mark.parametrize("target", ["msp430", "mcs51"])
 def test_chain_float_firmware_within_tolerance(target, tmp_path):
-    _tools(target)
+    require_target_tools(target)
     from pysig.weigh.chain import Chain
     case = vectors.chain_case()
     vectors.write_chain_header(case, tmp_path / "chain_vectors.h")
@@ -175,7 +165,7 @@ def test_chain_float_firmware_within_tolerance(target, tmp_path):
 def test_tcomp_fast_experiment_is_bit_exact(order, amplitude, tmp_path):
     """bench/mcu/experiments/tcomp_fast.c (the 'what it would take' figure of
     bench/mcu_cost.py) computes exactly sig_tcomp_apply_q."""
-    _tools("msp430")
+    require_target_tools("msp430")
     from pysig.tcomp._tcomp import TcompQ
     case = vectors.tcomp_case(order, seed=3, amplitude=amplitude)   # 2e4: q < 16 path
     vectors.write_tcomp_header(case, tmp_path / "tcomp_vectors.h")

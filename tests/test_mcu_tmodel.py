@@ -9,7 +9,7 @@ import struct
 import numpy as np
 import pytest
 
-from conftest import ROOT, require_tool
+from conftest import ROOT, require_target_tools
 from pysig.mcu import runner
 from pysig.reference import tmodel as ref
 from pysig.tcomp import _tmodel, tmodel
@@ -18,16 +18,6 @@ from pysig.tcomp.tempcode import CELSIUS, raw_code
 HARNESS = ROOT / "bench" / "mcu" / "harness"
 SOURCES = runner.csrc_sources("sig_tmodel", "sig_tmodel_image")
 N = 40
-
-
-def _tools(target):
-    if target == "msp430":
-        for t in ("clang-14", "mspdebug"):
-            require_tool(t)
-        require_tool("ld.lld-14", "ld.lld")
-    else:
-        for t in ("sdcc", "s51"):
-            require_tool(t)
 
 
 def _case(family):
@@ -70,7 +60,7 @@ static const int16_t tm_in[TM_N][TM_AXES] = {{ {rows} }};
 @pytest.mark.parametrize("target", ["msp430", "mcs51"])
 @pytest.mark.parametrize("family", ["table", "poly"])
 def test_firmware_equals_host_and_reference(target, family, tmp_path):
-    _tools(target)
+    require_target_tools(target)
     img, codes, readings = _case(family)
     _header(tmp_path / "tmodel_vectors.h", img, codes, readings)
     if target == "msp430":

@@ -590,30 +590,21 @@ def profile_lines_mcs51(img: Image, func: str, n_instructions: int) -> list[dict
     """As profile() for an 8051 image, per C source line: 12T clocks and
     instructions of one call, each instruction attributed to the source
     comment sdcc put above it (library routines by name)."""
-    import bisect
     timing = _timing()
-    entry = img.symbols["_" + func.split("@")[0]][1]
-    site, _ = _mcs51_call_site(img, func)
-    to_entry = [f"break {site:#x}", "run", "delete", f"break {entry:#x}", "run"]
-    out = _mcs51_history(img, to_entry, n_instructions, cpu="C52")
     where = _mcs51_code_lines(img)
-    labels = _mcs51_code_labels(img)
-    starts = [a for a, _ in labels]
     rows = {}
-    for seg in re.split(r"^Host usage:.*$", out, flags=re.M)[1:]:
-        for m in timing._HIST_LINE.finditer(seg.split("Stop at")[0]):
-            pc, op = int(m.group(1), 16), int(m.group(2).split()[0], 16)
-            loc = where.get(pc)
-            if loc is None:
-                i = bisect.bisect_right(starts, pc) - 1
-                loc = labels[i][1][1:] if i >= 0 else f"{pc:#x}"
-            r = rows.setdefault(loc, {"line": loc, "instructions": 0, "clocks_12T": 0})
-            r["instructions"] += 1
-            r["clocks_12T"] += 12 * timing.classic_machine_cycles(op)
+    for pc, op, name, _ in _mcs51_trace(img, func, n_instructions, "C52"):
+        loc = where.get(pc, name)
+        r = rows.setdefault(loc, {"line": loc, "instructions": 0, "clocks_12T": 0})
+        r["instructions"] += 1
+        r["clocks_12T"] += 12 * timing.classic_machine_cycles(op)
     return sorted(rows.values(), key=lambda r: -r["clocks_12T"])
 
 
-def _profile_mcs51(img, func, n_instructions, cpu="C52"):
+def _mcs51_trace(img, func, n_instructions, cpu):
+    """(pc, opcode, function name, whether pc is the function's first
+    instruction) of each instruction the simulator executes in the first
+    n_instructions of one call of func."""
     import bisect
     timing = _timing()
     entry = img.symbols["_" + func.split("@")[0]][1]
@@ -622,19 +613,26 @@ def _profile_mcs51(img, func, n_instructions, cpu="C52"):
     out = _mcs51_history(img, to_entry, n_instructions, cpu)
     labels = _mcs51_code_labels(img)
     starts = [a for a, _ in labels]
-    rows = {}
     for seg in re.split(r"^Host usage:.*$", out, flags=re.M)[1:]:
         for m in timing._HIST_LINE.finditer(seg.split("Stop at")[0]):
             pc, op = int(m.group(1), 16), int(m.group(2).split()[0], 16)
             i = bisect.bisect_right(starts, pc) - 1
-            name = labels[i][1][1:] if i >= 0 else f"{pc:#x}"
-            r = rows.setdefault(name, {"function": name, "instructions": 0, "calls": 0,
-                                       "clocks_12T": 0, "clocks_1t_stc_y5": 0})
-            r["instructions"] += 1
-            r["clocks_12T"] += 12 * timing.classic_machine_cycles(op)
-            r["clocks_1t_stc_y5"] += timing.stc_y5_clocks(op)
-            if i >= 0 and pc == labels[i][0]:
-                r["calls"] += 1
+            if i < 0:
+                yield pc, op, f"{pc:#x}", False
+            else:
+                yield pc, op, labels[i][1][1:], pc == labels[i][0]
+
+
+def _profile_mcs51(img, func, n_instructions, cpu="C52"):
+    timing = _timing()
+    rows = {}
+    for pc, op, name, entered in _mcs51_trace(img, func, n_instructions, cpu):
+        r = rows.setdefault(name, {"function": name, "instructions": 0, "calls": 0,
+                                   "clocks_12T": 0, "clocks_1t_stc_y5": 0})
+        r["instructions"] += 1
+        r["clocks_12T"] += 12 * timing.classic_machine_cycles(op)
+        r["clocks_1t_stc_y5"] += timing.stc_y5_clocks(op)
+        r["calls"] += entered
     return sorted(rows.values(), key=lambda r: -r["clocks_12T"])
 
 
