@@ -8,15 +8,14 @@ cdef extern from "sig_types.h":
     ctypedef int c_bool "bool"
 
 cdef extern from "sig_limit.h":
+    # only the fields the wrapper reads; the layout is the header's
     ctypedef struct sig_limit_f:
-        sig_real a0, dc
-        uint8_t lockout_n, run
-        int8_t side
+        sig_real dc
+        uint8_t run
         c_bool seeded
     ctypedef struct sig_limit_q:
-        int32_t a0, dc
-        uint8_t lockout_n, run
-        int8_t side
+        int32_t dc
+        uint8_t run
         c_bool seeded
     sig_status sig_limit_init_f(sig_limit_f *s, sig_real a0, uint8_t lockout_n) nogil
     sig_status sig_limit_reset_f(sig_limit_f *s) nogil
@@ -27,9 +26,9 @@ cdef extern from "sig_limit.h":
 
 cdef extern from "sig_antipulse.h":
     ctypedef struct sig_antipulse_f:
-        uint8_t n, count, head
+        uint8_t n, count
     ctypedef struct sig_antipulse_q:
-        uint8_t n, count, head
+        uint8_t n, count
     sig_status sig_antipulse_init_f(sig_antipulse_f *s, uint8_t n) nogil
     sig_status sig_antipulse_reset_f(sig_antipulse_f *s) nogil
     sig_status sig_antipulse_step_f(sig_antipulse_f *s, sig_real x, sig_real *out) nogil
@@ -39,13 +38,11 @@ cdef extern from "sig_antipulse.h":
 
 cdef extern from "sig_kalman1.h":
     ctypedef struct sig_kalman1_f:
-        sig_real q, r, p0, x0, x, p, k, innov
-        c_bool seed_first, seeded
+        sig_real x, p, k, innov
     ctypedef struct sig_kalman1_q:
-        int32_t x, x0, innov
-        uint32_t q, p0, y1, y
+        int32_t x, innov
+        uint32_t p0, y
         uint8_t phase
-        c_bool seed_first, seeded
     sig_status sig_kalman1_init_f(sig_kalman1_f *s, sig_real q, sig_real r, sig_real p0,
                                   sig_real x0, c_bool seed_first) nogil
     sig_status sig_kalman1_reset_f(sig_kalman1_f *s) nogil
@@ -59,13 +56,9 @@ cdef extern from "sig_kalman1.h":
 
 cdef extern from "sig_stable.h":
     ctypedef struct sig_stable_f:
-        sig_real step, prev
         uint8_t count, run
-        c_bool has_prev
     ctypedef struct sig_stable_q:
-        int32_t step, prev
         uint8_t count, run
-        c_bool has_prev
     sig_status sig_stable_init_f(sig_stable_f *s, sig_real step, uint8_t count) nogil
     sig_status sig_stable_reset_f(sig_stable_f *s) nogil
     sig_status sig_stable_step_f(sig_stable_f *s, sig_real x, c_bool *stable) nogil
@@ -75,13 +68,11 @@ cdef extern from "sig_stable.h":
 
 cdef extern from "sig_noise.h":
     ctypedef struct sig_noise_f:
-        sig_real prev, sigma, res
+        sig_real sigma
         uint8_t count
-        c_bool has_prev
     ctypedef struct sig_noise_q:
-        int32_t prev, sigma
+        int32_t sigma
         uint8_t count
-        c_bool has_prev
     sig_status sig_noise_reset_f(sig_noise_f *s) nogil
     sig_status sig_noise_step_f(sig_noise_f *s, sig_real x, c_bool update) nogil
     c_bool sig_noise_at_floor_f(const sig_noise_f *s) nogil
@@ -117,20 +108,16 @@ cdef extern from "sig_chain.h":
         sig_limit_f limit
         sig_antipulse_f ap
         sig_kalman1_f kf
-        sig_stable_f st
-        sig_real offset, out, motion_band, zero_band, zero_rate
-        uint8_t motion_run
-        c_bool tare_pending, stable, has_out, noise_auto
         sig_noise_f noise
+        sig_real offset
+        c_bool tare_pending, stable, noise_auto
     ctypedef struct sig_chain_q:
         sig_limit_q limit
         sig_antipulse_q ap
         sig_kalman1_q kf
-        sig_stable_q st
-        int32_t offset, out, motion_band, zero_band, zero_rate
-        uint8_t motion_run
-        c_bool tare_pending, stable, has_out, noise_auto
         sig_noise_q noise
+        int32_t offset
+        c_bool tare_pending, stable, noise_auto
     sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p) nogil
     sig_status sig_chain_reset_f(sig_chain_f *c) nogil
     sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, c_bool *stable) nogil
