@@ -39,7 +39,7 @@ static void check_noise_f(const sig_chain_f *c)
     REQUIRE(c->motion_band == SIG_REAL(1.5) * s);
     REQUIRE(c->st.step == SIG_REAL(0.25) * s && c->zero_band == SIG_REAL(2.0) * s);
     REQUIRE(c->zero_rate == SIG_REAL(0.0625) * s);
-    REQUIRE(c->holdoff <= c->ap.n && c->frozen <= 2u * SIG_CHAIN_NOISE_FROZEN_MAX);
+    REQUIRE(c->gate.holdoff <= c->ap.n && c->gate.frozen <= 2u * SIG_CHAIN_NOISE_FROZEN_MAX);
 }
 
 static void check_noise_q(const sig_chain_q *c)
@@ -50,7 +50,7 @@ static void check_noise_q(const sig_chain_q *c)
     REQUIRE(c->noise.count == 0u ? c->limit.a0 == 2 * SIG_CODE_MAX
             : c->limit.a0 == (((int64_t)s * 6 + 64) >> 7 > 0 ? ((int64_t)s * 6 + 64) >> 7 : 1));
     REQUIRE(c->motion_band == s + s / 2 && c->st.step == s / 4 && c->zero_band == 2 * s && c->zero_rate == s / 16);
-    REQUIRE(c->holdoff <= c->ap.n && c->frozen <= 2u * SIG_CHAIN_NOISE_FROZEN_MAX);
+    REQUIRE(c->gate.holdoff <= c->ap.n && c->gate.frozen <= 2u * SIG_CHAIN_NOISE_FROZEN_MAX);
     REQUIRE(!c->noise.has_prev || (c->noise.prev >= -SIG_CODE_MAX && c->noise.prev <= SIG_CODE_MAX));
 }
 
@@ -71,7 +71,7 @@ static void check_q(const sig_chain_q *c, int32_t x0)
     check_noise_q(c);
     REQUIRE(c->ap.count <= c->ap.n && c->ap.head < c->ap.n);
     for (i = 0; i < c->ap.count; i++) REQUIRE(c->ap.buf[i] >= -SIG_CODE_MAX && c->ap.buf[i] <= SIG_CODE_MAX);
-    REQUIRE(!c->limit.seeded || (c->limit.dc >= -SIG_CODE_MAX && c->limit.dc <= SIG_CODE_MAX));
+    REQUIRE(!c->limit.t.seeded || (c->limit.dc >= -SIG_CODE_MAX && c->limit.dc <= SIG_CODE_MAX));
     REQUIRE(c->kf.y > 0 && c->kf.y <= UINT32_C(1073741824) && c->kf.phase <= 3);
     REQUIRE((int64_t)c->kf.x <= hull + 1 && (int64_t)c->kf.x >= -hull - 1);
 }

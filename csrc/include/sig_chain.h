@@ -100,6 +100,14 @@ typedef struct {
     bool noise_auto;
 } sig_chain_params_q;
 
+/* noise_auto: when a sample may update the noise estimate (sig_chain.c),
+ * the same for both forms. */
+typedef struct {
+    bool rejected_prev;     /* the previous sample was rejected */
+    uint8_t holdoff;        /* samples left before updates resume after an event */
+    uint8_t frozen;         /* how long updates have been held (SIG_CHAIN_NOISE_FROZEN_MAX) */
+} sig_chain_gate;
+
 typedef struct {
     sig_limit_f limit;
     sig_antipulse_f ap;
@@ -110,8 +118,8 @@ typedef struct {
     sig_real out;           /* last output */
     uint8_t motion_count, motion_run;
     bool tare_pending, stable, has_out;
-    bool noise_auto, rejected_prev;
-    uint8_t holdoff, frozen; /* noise_auto: samples of hold-off left, skip count (SIG_CHAIN_NOISE_FROZEN_MAX) */
+    bool noise_auto;
+    sig_chain_gate gate;
     sig_noise_f noise;
 } sig_chain_f;
 
@@ -125,8 +133,8 @@ typedef struct {
     int32_t out;            /* Q24.7 */
     uint8_t motion_count, motion_run;
     bool tare_pending, stable, has_out;
-    bool noise_auto, rejected_prev;
-    uint8_t holdoff, frozen;
+    bool noise_auto;
+    sig_chain_gate gate;
     sig_noise_q noise;
 } sig_chain_q;
 

@@ -25,22 +25,25 @@
 
 /* SIG_LIMIT_RESEEDED (lock-out fix accepted and re-seeded): sig_status.h */
 
+/* What both forms track besides the threshold and Dc: whether Dc holds a
+ * sample yet, and the lock-out run. */
 typedef struct {
-    sig_real a0;        /* threshold, > 0, signal units */
-    sig_real dc;        /* reference */
     uint8_t lockout_n;  /* 0: off (paper); else rejections on one side before re-seeding */
     uint8_t run;        /* successive rejections on `side` */
     int8_t side;        /* +1 above Dc, -1 below, 0 none */
-    bool seeded;
+    bool seeded;        /* Dc holds a sample */
+} sig_limit_track;
+
+typedef struct {
+    sig_real a0;        /* threshold, > 0, signal units */
+    sig_real dc;        /* reference */
+    sig_limit_track t;
 } sig_limit_f;
 
 typedef struct {
     int32_t a0;         /* threshold, > 0, codes */
     int32_t dc;         /* reference, codes */
-    uint8_t lockout_n;
-    uint8_t run;
-    int8_t side;
-    bool seeded;
+    sig_limit_track t;
 } sig_limit_q;
 
 sig_status sig_limit_init_f(sig_limit_f *s, sig_real a0, uint8_t lockout_n);

@@ -52,6 +52,7 @@ int32_t sig_asr32(int32_t x, uint8_t n);
 int32_t sig_shl32_sat(int32_t x, uint8_t n);
 int32_t sig_mul_q16_sat(int32_t a, int32_t b);
 bool sig_real_isfinite(sig_real x);
+uint8_t sig_run_next(uint8_t run, bool more);
 #else
 #ifdef __SDCC
 #define SIG_HELPER              /* sig_types.c: the one external definition */
@@ -151,6 +152,15 @@ SIG_HELPER int32_t sig_mul_q16_sat(int32_t a, int32_t b)
 SIG_HELPER bool sig_real_isfinite(sig_real x)
 {
     return x - x == SIG_REAL(0.0);
+}
+
+/* The length of a run of successive samples that share a property (within
+ * the step, outside the band, rejected on one side) after one more sample:
+ * one longer when it has the property, else 0; it stops growing at 255. */
+SIG_HELPER uint8_t sig_run_next(uint8_t run, bool more)
+{
+    if (!more) return 0u;
+    return run < 255u ? (uint8_t)(run + 1u) : run;
 }
 
 #endif /* __SDCC && !SIG_TYPES_DEFINE */

@@ -66,25 +66,42 @@ static void set_thresholds_f(sig_chain_f *c)
     c->zero_rate = SIG_REAL(0.0625) * s;
 }
 
-/* noise_auto, after the stages: update the estimator unless the load moves
- * (sig_chain.h), then the thresholds; the floor flag */
-static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
+/* noise_auto, after the stages: whether this sample may update the noise
+ * estimate - not on a motion or re-seed event nor for a window after it,
+ * not on a rejected sample nor the one after it (sig_chain.h) - and the
+ * escape when updates have been held too long. */
+static bool noise_gate(sig_chain_gate *g, uint8_t *noise_count, uint8_t window, uint8_t motion_run,
+                       sig_status ret)
 {
     bool event = (ret & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED)) != 0;
     bool rejected = (ret & SIG_WARN_REJECTED) != 0;
     bool update;
-    if (event) c->holdoff = c->ap.n;
-    else if (c->holdoff > 0u) c->holdoff--;
-    if (!event && !rejected && !c->rejected_prev && c->holdoff == 0u && c->motion_run == 0u) {
-        if (c->frozen > 0u) c->frozen--;
+    if (event) g->holdoff = window;
+    else if (g->holdoff > 0u) g->holdoff--;
+    if (!event && !rejected && !g->rejected_prev && g->holdoff == 0u && motion_run == 0u) {
+        if (g->frozen > 0u) g->frozen--;
         update = true;
     } else {
-        if (c->frozen < 2u * SIG_CHAIN_NOISE_FROZEN_MAX) c->frozen++;
-        if (c->frozen == SIG_CHAIN_NOISE_FROZEN_MAX && c->noise.count > 8u)
-            c->noise.count = 8u;                /* the noise changed: large steps again */
-        update = c->frozen >= SIG_CHAIN_NOISE_FROZEN_MAX || c->noise.count < SIG_NOISE_WARMUP;
+        if (g->frozen < 2u * SIG_CHAIN_NOISE_FROZEN_MAX) g->frozen++;
+        if (g->frozen == SIG_CHAIN_NOISE_FROZEN_MAX && *noise_count > 8u)
+            *noise_count = 8u;                  /* the noise changed: large steps again */
+        update = g->frozen >= SIG_CHAIN_NOISE_FROZEN_MAX || *noise_count < SIG_NOISE_WARMUP;
     }
-    c->rejected_prev = rejected;
+    g->rejected_prev = rejected;
+    return update;
+}
+
+static void noise_gate_reset(sig_chain_gate *g)
+{
+    g->rejected_prev = false;
+    g->holdoff = 0u;
+    g->frozen = 0u;
+}
+
+/* noise_auto, after the stages: the estimator, then the thresholds; the floor flag */
+static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
+{
+    bool update = noise_gate(&c->gate, &c->noise.count, c->ap.n, c->motion_run, ret);
     (void)sig_noise_step_f(&c->noise, x, update);
     set_thresholds_f(c);
     return sig_noise_at_floor_f(&c->noise) ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
@@ -118,9 +135,7 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->tare_pending = false;
     c->stable = false;
     c->has_out = false;
-    c->rejected_prev = false;
-    c->holdoff = 0u;
-    c->frozen = 0u;
+    noise_gate_reset(&c->gate);
     (void)sig_noise_reset_f(&c->noise);
     set_thresholds_f(c);
     return SIG_OK;
@@ -142,7 +157,8 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     }
     (void)sig_antipulse_step_f(&c->ap, y, &m);
     if (c->motion_band > SIG_REAL(0.0) && c->kf.seeded
-        && sig_chain_motion_f(m - c->kf.x, c->motion_band, &c->motion_run, c->motion_count)) {
+        && sig_chain_motion(m - c->kf.x > c->motion_band || c->kf.x - m > c->motion_band,
+                            &c->motion_run, c->motion_count)) {
         (void)sig_antipulse_reset_f(&c->ap);
         (void)sig_antipulse_step_f(&c->ap, y, &m);
         restart_kf_f(c);
@@ -172,7 +188,8 @@ sig_status sig_chain_tare_f(sig_chain_f *c)
 {
     if (!c) return SIG_ERR_ARG;
     if (c->has_out && c->stable) {             /* stable now: the tare of a stable sample */
-        sig_chain_take_tare_f(c->kf.x, &c->offset, &c->tare_pending);
+        c->offset = c->kf.x;
+        c->tare_pending = false;
         c->out = SIG_REAL(0.0);
         return SIG_CHAIN_TARED;
     }
@@ -222,24 +239,10 @@ static void set_thresholds_q(sig_chain_q *c)
 
 static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)
 {
-    bool event = (ret & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED)) != 0;
-    bool rejected = (ret & SIG_WARN_REJECTED) != 0;
-    bool update;
-    if (event) c->holdoff = c->ap.n;
-    else if (c->holdoff > 0u) c->holdoff--;
-    if (!event && !rejected && !c->rejected_prev && c->holdoff == 0u && c->motion_run == 0u) {
-        if (c->frozen > 0u) c->frozen--;
-        update = true;
-    } else {
-        if (c->frozen < 2u * SIG_CHAIN_NOISE_FROZEN_MAX) c->frozen++;
-        if (c->frozen == SIG_CHAIN_NOISE_FROZEN_MAX && c->noise.count > 8u)
-            c->noise.count = 8u;                /* the noise changed: large steps again */
-        update = c->frozen >= SIG_CHAIN_NOISE_FROZEN_MAX || c->noise.count < SIG_NOISE_WARMUP;
-    }
-    c->rejected_prev = rejected;
+    bool update = noise_gate(&c->gate, &c->noise.count, c->ap.n, c->motion_run, ret);
     (void)sig_noise_step_q(&c->noise, x, update);
     set_thresholds_q(c);
-    return c->noise.sigma <= SIG_NOISE_FLOOR_Q7 ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
+    return sig_noise_at_floor_q(&c->noise) ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
 }
 
 sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p)
@@ -270,9 +273,7 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->tare_pending = false;
     c->stable = false;
     c->has_out = false;
-    c->rejected_prev = false;
-    c->holdoff = 0u;
-    c->frozen = 0u;
+    noise_gate_reset(&c->gate);
     (void)sig_noise_reset_q(&c->noise);
     set_thresholds_q(c);
     return SIG_OK;
@@ -295,7 +296,8 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
     (void)sig_antipulse_step_q(&c->ap, y, &m);
     m7 = codes_to_q7(m);
     if (c->motion_band > 0 && c->kf.seeded
-        && sig_chain_motion_q(sig_sat_sub32(m7, c->kf.x), c->motion_band, &c->motion_run, c->motion_count)) {
+        && sig_chain_motion(sig_abs32_sat(sig_sat_sub32(m7, c->kf.x)) > c->motion_band,
+                            &c->motion_run, c->motion_count)) {
         (void)sig_antipulse_reset_q(&c->ap);
         (void)sig_antipulse_step_q(&c->ap, y, &m);
         m7 = codes_to_q7(m);
@@ -322,7 +324,8 @@ sig_status sig_chain_tare_q(sig_chain_q *c)
 {
     if (!c) return SIG_ERR_ARG;
     if (c->has_out && c->stable) {             /* stable now: the tare of a stable sample */
-        sig_chain_take_tare_q(c->kf.x, &c->offset, &c->tare_pending);
+        c->offset = c->kf.x;
+        c->tare_pending = false;
         c->out = 0;
         return SIG_CHAIN_TARED;
     }

@@ -16,15 +16,15 @@
  * that works on the structs.  `fast` says the chain is in the state the fast
  * path is written for: every stage seeded, window values within FAST_MAX. */
 #define HOT_LOAD_F() do { \
-        dc = c->limit.dc; lrun = c->limit.run; lside = c->limit.side; \
+        dc = c->limit.dc; lrun = c->limit.t.run; lside = c->limit.t.side; \
         sum = c->ap.sum; mx = c->ap.mx; mn = c->ap.mn; head = c->ap.head; held = c->ap.count; \
         kx = c->kf.x; kp = c->kf.p; kk = c->kf.k; conv = c->kf.converged; \
         prev = c->st.prev; srun = c->st.run; mrun = c->motion_run; offset = c->offset; \
-        fast = c->limit.seeded && held != 0u && c->kf.seeded && c->st.has_prev \
+        fast = c->limit.t.seeded && held != 0u && c->kf.seeded && c->st.has_prev \
                && mx <= FAST_MAX && mn >= -FAST_MAX; \
     } while (0)
 #define HOT_STORE_F() do { \
-        c->limit.dc = dc; c->limit.run = lrun; c->limit.side = lside; \
+        c->limit.dc = dc; c->limit.t.run = lrun; c->limit.t.side = lside; \
         c->ap.sum = sum; c->ap.mx = mx; c->ap.mn = mn; c->ap.head = head; c->ap.count = held; \
         c->kf.x = kx; c->kf.p = kp; c->kf.k = kk; c->kf.converged = conv; \
         c->st.prev = prev; c->st.run = srun; c->motion_run = mrun; c->offset = offset; \
@@ -68,7 +68,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
     }
     a0 = c->limit.a0; inv = c->ap.inv; band = c->motion_band; kq = c->kf.q; kr = c->kf.r;
     step = c->st.step; zband = c->zero_band; zrate = c->zero_rate;
-    wn = c->ap.n; lockout_n = c->limit.lockout_n; motion_count = c->motion_count;
+    wn = c->ap.n; lockout_n = c->limit.t.lockout_n; motion_count = c->motion_count;
     stable_count = c->st.count;
     HOT_LOAD_F();
     for (i = 0u; i + 1u < n; i++) {
@@ -135,7 +135,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         else if (held == 2u) m = sum * SIG_REAL(0.5);
         else m = (sum - mx - mn) / (sig_real)(held - 2u);
         /* motion-aware settling */
-        if (band > SIG_REAL(0.0) && sig_chain_motion_f(m - kx, band, &mrun, motion_count)) {
+        if (band > SIG_REAL(0.0) && sig_chain_motion(m - kx > band || kx - m > band, &mrun, motion_count)) {
             HOT_STORE_F();
             (void)sig_antipulse_reset_f(&c->ap);
             (void)sig_antipulse_step_f(&c->ap, y, &m1);

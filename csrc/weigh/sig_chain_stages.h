@@ -20,90 +20,43 @@
 #define SIG_CHAIN_STAGE static inline
 #endif
 
-/* Motion test: |e| > band counts one more sample of motion (run saturates
- * at 255), anything else ends the run.  True when the run reaches count:
- * the caller restarts window and Kalman, and the run starts again at 0. */
-SIG_CHAIN_STAGE bool sig_chain_motion_f(sig_real e, sig_real band, uint8_t *run, uint8_t count)
+/* Motion test: a sample whose Kalman innovation is outside the motion band
+ * (`moving`, tested by the caller in its own number format) counts one more
+ * sample of motion, anything else ends the run.  True when the run reaches
+ * count: the caller restarts window and Kalman, and the run starts again. */
+SIG_CHAIN_STAGE bool sig_chain_motion(bool moving, uint8_t *run, uint8_t count)
 {
-    if (e > band || -e > band) {
-        if (*run < 255u) (*run)++;
-    } else {
-        *run = 0u;
-    }
-    if (*run >= count) {
-        *run = 0u;
-        return true;
-    }
-    return false;
-}
-
-SIG_CHAIN_STAGE bool sig_chain_motion_q(int32_t e, int32_t band, uint8_t *run, uint8_t count)
-{
-    if (sig_abs32_sat(e) > band) {
-        if (*run < 255u) (*run)++;
-    } else {
-        *run = 0u;
-    }
-    if (*run >= count) {
-        *run = 0u;
-        return true;
-    }
-    return false;
+    *run = sig_run_next(*run, moving);
+    if (*run < count) return false;
+    *run = 0u;
+    return true;
 }
 
 /* Tare and zero tracking on a stable sample xk: a pending tare takes xk as
  * the offset (returns true); otherwise, while |xk - offset| <= zband, the
  * offset moves towards xk by at most zrate (zband 0: no tracking). */
-/* A tare: the offset becomes xk, nothing is pending any more. */
-SIG_CHAIN_STAGE void sig_chain_take_tare_f(sig_real xk, sig_real *offset, bool *tare_pending)
-{
-    *offset = xk;
-    *tare_pending = false;
-}
-
 SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, bool *tare_pending,
                                       sig_real zband, sig_real zrate)
 {
-    sig_real dz;
-    if (*tare_pending) {
-        sig_chain_take_tare_f(xk, offset, tare_pending);
-        return true;
-    }
-    if (zband > SIG_REAL(0.0)) {
-        dz = xk - *offset;
-        if (dz <= zband && -dz <= zband) {
-            if (dz > zrate) dz = zrate;
-            if (dz < -zrate) dz = -zrate;
-            *offset += dz;
-        }
-    }
-    return false;
-}
-
-/* A tare: the offset becomes xk, nothing is pending any more. */
-SIG_CHAIN_STAGE void sig_chain_take_tare_q(int32_t xk, int32_t *offset, bool *tare_pending)
-{
-    *offset = xk;
+    sig_real dz = xk - *offset;
+    bool tare = *tare_pending;
     *tare_pending = false;
+    if (!tare && (zband <= SIG_REAL(0.0) || dz > zband || -dz > zband)) return false;
+    if (!tare) dz = dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
+    *offset = tare ? xk : *offset + dz;
+    return tare;
 }
 
 SIG_CHAIN_STAGE bool sig_chain_offset_q(int32_t xk, int32_t *offset, bool *tare_pending,
                                       int32_t zband, int32_t zrate)
 {
-    int32_t dz;
-    if (*tare_pending) {
-        sig_chain_take_tare_q(xk, offset, tare_pending);
-        return true;
-    }
-    if (zband > 0) {
-        dz = sig_sat_sub32(xk, *offset);
-        if (sig_abs32_sat(dz) <= zband) {
-            if (dz > zrate) dz = zrate;
-            if (dz < -zrate) dz = -zrate;
-            *offset = sig_sat_add32(*offset, dz);
-        }
-    }
-    return false;
+    int32_t dz = sig_sat_sub32(xk, *offset);
+    bool tare = *tare_pending;
+    *tare_pending = false;
+    if (!tare && (zband <= 0 || sig_abs32_sat(dz) > zband)) return false;
+    if (!tare) dz = dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
+    *offset = tare ? xk : sig_sat_add32(*offset, dz);
+    return tare;
 }
 
 #endif /* SIG_CHAIN_STAGES_H */

@@ -1,12 +1,48 @@
 /* sig_limit.c - limit (threshold) filter with the lock-out fix; see sig_limit.h. */
 #include "sig_limit.h"
 
-/* NaN and +-inf are the values for which x - x is not 0 (no libm needed). */
+/* Where a sample lies, from d = x - Dc: +1 above A0, -1 below -A0, 0 within. */
+static int8_t side_f(sig_real d, sig_real a0)
+{
+    return d > a0 ? (int8_t)1 : (d < -a0 ? (int8_t)-1 : (int8_t)0);
+}
+
+static int8_t side_q(int32_t d, int32_t a0)
+{
+    return d > a0 ? (int8_t)1 : (d < -a0 ? (int8_t)-1 : (int8_t)0);
+}
+
+static void track_reset(sig_limit_track *t)
+{
+    t->run = 0u;
+    t->side = 0;
+    t->seeded = false;
+}
+
+/* The decision both forms share once the typed code has placed the sample:
+ * side +1 above Dc + A0, -1 below Dc - A0, 0 within (the first sample, which
+ * seeds Dc, counts as within).  Returns SIG_OK (the sample becomes Dc),
+ * SIG_WARN_REJECTED (Dc stays) or SIG_LIMIT_RESEEDED (the lock-out run is
+ * complete: the sample becomes Dc). */
+static sig_status track_decide(sig_limit_track *t, int8_t side)
+{
+    bool outside = side != 0 && t->seeded;
+    t->seeded = true;
+    if (outside) {
+        t->run = side == t->side ? sig_run_next(t->run, true) : 1u;
+        t->side = side;
+        if (t->lockout_n == 0u || t->run < t->lockout_n) return SIG_WARN_REJECTED;
+    }
+    t->run = 0u;
+    t->side = 0;
+    return outside ? SIG_LIMIT_RESEEDED : SIG_OK;
+}
+
 sig_status sig_limit_init_f(sig_limit_f *s, sig_real a0, uint8_t lockout_n)
 {
     if (!s || !sig_real_isfinite(a0) || !(a0 > SIG_REAL(0.0))) return SIG_ERR_ARG;
     s->a0 = a0;
-    s->lockout_n = lockout_n;
+    s->t.lockout_n = lockout_n;
     return sig_limit_reset_f(s);
 }
 
@@ -14,61 +50,31 @@ sig_status sig_limit_reset_f(sig_limit_f *s)
 {
     if (!s) return SIG_ERR_ARG;
     s->dc = SIG_REAL(0.0);
-    s->run = 0u;
-    s->side = 0;
-    s->seeded = false;
+    track_reset(&s->t);
     return SIG_OK;
+}
+
+/* A NaN or inf sample is an impulse that does not count for the lock-out. */
+sig_status sig_limit_step_f(sig_limit_f *s, sig_real x, sig_real *out)
+{
+    sig_status st;
+    if (!s || !out) return SIG_ERR_ARG;
+    if (!sig_real_isfinite(x)) {
+        if (!s->t.seeded) return SIG_ERR_NONFINITE;
+        *out = s->dc;
+        return SIG_WARN_REJECTED;
+    }
+    st = track_decide(&s->t, side_f(x - s->dc, s->a0));  /* x - Dc may be +-inf: still rejected */
+    if (st != SIG_WARN_REJECTED) s->dc = x;
+    *out = s->dc;
+    return st;
 }
 
 sig_status sig_limit_set_ref_f(sig_limit_f *s, sig_real dc)
 {
     if (!s || !sig_real_isfinite(dc)) return SIG_ERR_ARG;
     s->dc = dc;
-    s->seeded = true;
-    return SIG_OK;
-}
-
-sig_status sig_limit_step_f(sig_limit_f *s, sig_real x, sig_real *out)
-{
-    sig_real d;
-    int8_t side;
-    if (!s || !out) return SIG_ERR_ARG;
-    if (!sig_real_isfinite(x)) {
-        if (!s->seeded) return SIG_ERR_NONFINITE;
-        *out = s->dc;                 /* an impulse; not counted for the lock-out */
-        return SIG_WARN_REJECTED;
-    }
-    if (!s->seeded) {
-        s->dc = x;
-        s->seeded = true;
-        s->run = 0u;
-        s->side = 0;
-        *out = x;
-        return SIG_OK;
-    }
-    d = x - s->dc;                    /* may be +-inf for huge values: still rejected */
-    if (d > s->a0 || d < -s->a0) {
-        side = d > SIG_REAL(0.0) ? (int8_t)1 : (int8_t)-1;
-        if (side == s->side) {
-            if (s->run < 255u) s->run++;
-        } else {
-            s->side = side;
-            s->run = 1u;
-        }
-        if (s->lockout_n != 0u && s->run >= s->lockout_n) {
-            s->dc = x;
-            s->run = 0u;
-            s->side = 0;
-            *out = x;
-            return SIG_LIMIT_RESEEDED;
-        }
-        *out = s->dc;
-        return SIG_WARN_REJECTED;
-    }
-    s->run = 0u;
-    s->side = 0;
-    s->dc = x;
-    *out = x;
+    s->t.seeded = true;
     return SIG_OK;
 }
 
@@ -76,7 +82,7 @@ sig_status sig_limit_init_q(sig_limit_q *s, int32_t a0, uint8_t lockout_n)
 {
     if (!s || a0 <= 0) return SIG_ERR_ARG;
     s->a0 = a0;
-    s->lockout_n = lockout_n;
+    s->t.lockout_n = lockout_n;
     return sig_limit_reset_q(s);
 }
 
@@ -84,55 +90,24 @@ sig_status sig_limit_reset_q(sig_limit_q *s)
 {
     if (!s) return SIG_ERR_ARG;
     s->dc = 0;
-    s->run = 0u;
-    s->side = 0;
-    s->seeded = false;
+    track_reset(&s->t);
     return SIG_OK;
+}
+
+sig_status sig_limit_step_q(sig_limit_q *s, int32_t x, int32_t *out)
+{
+    sig_status st;
+    if (!s || !out) return SIG_ERR_ARG;
+    st = track_decide(&s->t, side_q(sig_sat_sub32(x, s->dc), s->a0));  /* saturated: sign kept */
+    if (st != SIG_WARN_REJECTED) s->dc = x;
+    *out = s->dc;
+    return st;
 }
 
 sig_status sig_limit_set_ref_q(sig_limit_q *s, int32_t dc)
 {
     if (!s) return SIG_ERR_ARG;
     s->dc = dc;
-    s->seeded = true;
-    return SIG_OK;
-}
-
-sig_status sig_limit_step_q(sig_limit_q *s, int32_t x, int32_t *out)
-{
-    int32_t d;
-    int8_t side;
-    if (!s || !out) return SIG_ERR_ARG;
-    if (!s->seeded) {
-        s->dc = x;
-        s->seeded = true;
-        s->run = 0u;
-        s->side = 0;
-        *out = x;
-        return SIG_OK;
-    }
-    d = sig_sat_sub32(x, s->dc);      /* saturation keeps the sign: still rejected */
-    if (d > s->a0 || d < -s->a0) {
-        side = d > 0 ? (int8_t)1 : (int8_t)-1;
-        if (side == s->side) {
-            if (s->run < 255u) s->run++;
-        } else {
-            s->side = side;
-            s->run = 1u;
-        }
-        if (s->lockout_n != 0u && s->run >= s->lockout_n) {
-            s->dc = x;
-            s->run = 0u;
-            s->side = 0;
-            *out = x;
-            return SIG_LIMIT_RESEEDED;
-        }
-        *out = s->dc;
-        return SIG_WARN_REJECTED;
-    }
-    s->run = 0u;
-    s->side = 0;
-    s->dc = x;
-    *out = x;
+    s->t.seeded = true;
     return SIG_OK;
 }

@@ -9,14 +9,15 @@ cdef extern from "sig_types.h":
 
 cdef extern from "sig_limit.h":
     # only the fields the wrapper reads; the layout is the header's
+    ctypedef struct sig_limit_track:
+        uint8_t run
+        c_bool seeded
     ctypedef struct sig_limit_f:
         sig_real dc
-        uint8_t run
-        c_bool seeded
+        sig_limit_track t
     ctypedef struct sig_limit_q:
         int32_t dc
-        uint8_t run
-        c_bool seeded
+        sig_limit_track t
     sig_status sig_limit_init_f(sig_limit_f *s, sig_real a0, uint8_t lockout_n) nogil
     sig_status sig_limit_reset_f(sig_limit_f *s) nogil
     sig_status sig_limit_step_f(sig_limit_f *s, sig_real x, sig_real *out) nogil
@@ -39,10 +40,12 @@ cdef extern from "sig_antipulse.h":
 cdef extern from "sig_kalman1.h":
     ctypedef struct sig_kalman1_f:
         sig_real x, p, k, innov
+        c_bool seeded
     ctypedef struct sig_kalman1_q:
         int32_t x, innov
         uint32_t p0, y
         uint8_t phase
+        c_bool seeded
     sig_status sig_kalman1_init_f(sig_kalman1_f *s, sig_real q, sig_real r, sig_real p0,
                                   sig_real x0, c_bool seed_first) nogil
     sig_status sig_kalman1_reset_f(sig_kalman1_f *s) nogil

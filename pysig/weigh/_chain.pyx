@@ -133,11 +133,11 @@ cdef class LimitFilter:
 
     @property
     def run(self):
-        return self.q.run if self.fixed else self.f.run
+        return self.q.t.run if self.fixed else self.f.t.run
 
     @property
     def seeded(self):
-        return bool(self.q.seeded if self.fixed else self.f.seeded)
+        return bool(self.q.t.seeded if self.fixed else self.f.t.seeded)
 
 
 # ---- stage 2 ---------------------------------------------------------------
