@@ -53,6 +53,9 @@ int32_t sig_shl32_sat(int32_t x, uint8_t n);
 int32_t sig_mul_q16_sat(int32_t a, int32_t b);
 bool sig_real_isfinite(sig_real x);
 uint8_t sig_run_next(uint8_t run, bool more);
+sig_status sig_clamp_i16(int16_t *x, int16_t lo, int16_t hi);
+sig_status sig_clamp_real(sig_real *x, sig_real lo, sig_real hi);
+bool sig_real_all_finite(const sig_real *v, uint16_t n);
 #else
 #ifdef __SDCC
 #define SIG_HELPER              /* sig_types.c: the one external definition */
@@ -161,6 +164,35 @@ SIG_HELPER uint8_t sig_run_next(uint8_t run, bool more)
 {
     if (!more) return 0u;
     return run < 255u ? (uint8_t)(run + 1u) : run;
+}
+
+/* *x limited to [lo, hi] (lo <= hi): SIG_WARN_CLAMPED when it had to move,
+ * else SIG_OK - a temperature outside the calibrated range, a scaled value
+ * outside the polynomial's domain. */
+SIG_HELPER sig_status sig_clamp_i16(int16_t *x, int16_t lo, int16_t hi)
+{
+    if (*x < lo) *x = lo;
+    else if (*x > hi) *x = hi;
+    else return SIG_OK;
+    return SIG_WARN_CLAMPED;
+}
+
+/* As sig_clamp_i16; +-inf clamps, NaN passes unchanged (callers test it). */
+SIG_HELPER sig_status sig_clamp_real(sig_real *x, sig_real lo, sig_real hi)
+{
+    if (*x < lo) *x = lo;
+    else if (*x > hi) *x = hi;
+    else return SIG_OK;
+    return SIG_WARN_CLAMPED;
+}
+
+/* true when v[0..n) are all finite (coefficients, tables, a reading per axis). */
+SIG_HELPER bool sig_real_all_finite(const sig_real *v, uint16_t n)
+{
+    uint16_t i;
+    for (i = 0u; i < n; i++)
+        if (!sig_real_isfinite(v[i])) return false;
+    return true;
 }
 
 #endif /* __SDCC && !SIG_TYPES_DEFINE */

@@ -280,9 +280,7 @@ sig_status sig_gain_init_f(sig_gain_f *g, const sig_real *coef, uint8_t order)
 {
     uint8_t k;
     if (g == NULL || coef == NULL || order > SIG_POLY_MAX_ORDER) return SIG_ERR_ARG;
-    for (k = 0u; k <= order; ++k) {
-        if (!sig_real_isfinite(coef[k])) return SIG_ERR_NONFINITE;
-    }
+    if (!sig_real_all_finite(coef, (uint16_t)(order + 1u))) return SIG_ERR_NONFINITE;
     for (k = 0u; k <= order; ++k) g->coef[k] = coef[k];
     g->order = order;
     return SIG_OK;
@@ -351,9 +349,7 @@ sig_status sig_nonlin_init_f(sig_nonlin_f *m, const sig_real *coef, uint8_t orde
     if (m == NULL || coef == NULL || order > SIG_POLY_MAX_ORDER) return SIG_ERR_ARG;
     if (!sig_real_isfinite(center) || !sig_real_isfinite(inv_scale) || !(inv_scale > SIG_REAL(0.0)))
         return SIG_ERR_ARG;
-    for (k = 0u; k <= order; ++k) {
-        if (!sig_real_isfinite(coef[k])) return SIG_ERR_NONFINITE;
-    }
+    if (!sig_real_all_finite(coef, (uint16_t)(order + 1u))) return SIG_ERR_NONFINITE;
     for (k = 0u; k <= order; ++k) m->coef[k] = coef[k];
     m->order = order;
     m->center = center;
@@ -363,18 +359,12 @@ sig_status sig_nonlin_init_f(sig_nonlin_f *m, const sig_real *coef, uint8_t orde
 
 sig_status sig_nonlin_apply_f(const sig_nonlin_f *m, sig_real x, sig_real *out)
 {
-    sig_status st = SIG_OK, hs;
+    sig_status st, hs;
     sig_real u, p;
     if (m == NULL || out == NULL) return SIG_ERR_ARG;
     if (!sig_real_isfinite(x)) return SIG_ERR_NONFINITE;
     u = (x - m->center) * m->inv_scale;
-    if (u > SIG_REAL(1.0)) {
-        u = SIG_REAL(1.0);
-        st = SIG_WARN_CLAMPED;
-    } else if (u < SIG_REAL(-1.0)) {
-        u = SIG_REAL(-1.0);
-        st = SIG_WARN_CLAMPED;
-    }
+    st = sig_clamp_real(&u, SIG_REAL(-1.0), SIG_REAL(1.0));
     hs = sig_poly_horner_f(m->coef, m->order, u, &p);
     if (hs != SIG_OK) return hs;
     *out = x + p;
@@ -413,9 +403,7 @@ sig_status sig_cross_init_f(sig_cross_f *c, const sig_real *k, uint8_t n)
 {
     uint8_t j;
     if (c == NULL || k == NULL || n < 1u || n > SIG_CROSS_MAX_AXES) return SIG_ERR_ARG;
-    for (j = 0u; j < n; ++j) {
-        if (!sig_real_isfinite(k[j])) return SIG_ERR_NONFINITE;
-    }
+    if (!sig_real_all_finite(k, n)) return SIG_ERR_NONFINITE;
     for (j = 0u; j < n; ++j) c->k[j] = k[j];
     c->n = n;
     return SIG_OK;

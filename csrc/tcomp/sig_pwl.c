@@ -37,17 +37,11 @@ sig_status sig_pwl_init_q16(sig_pwl_q16 *p, const int16_t *table, uint8_t n_knot
 
 sig_status sig_pwl_eval_q16(const sig_pwl_q16 *p, int16_t t, int32_t *out_q16)
 {
-    sig_status st = SIG_OK;
+    sig_status st;
     uint32_t pos, seg;
     int32_t acc, lo, hi_word;
     if (p == NULL || out_q16 == NULL || p->table == NULL) return SIG_ERR_ARG;
-    if (t < p->t_lo) {
-        t = p->t_lo;
-        st = SIG_WARN_CLAMPED;
-    } else if (t > p->t_hi) {
-        t = p->t_hi;
-        st = SIG_WARN_CLAMPED;
-    }
+    st = sig_clamp_i16(&t, p->t_lo, p->t_hi);
     pos = pwl_position((uint16_t)((int32_t)t - (int32_t)p->t_lo), p->recip);
     seg = pos >> 16;
     if (seg >= (uint32_t)(p->n_knots - 1u)) {

@@ -5,7 +5,6 @@
 sig_status sig_pwl_init_f(sig_pwl_f *p, const sig_real *table, uint8_t n_knots,
                           sig_real t_lo, sig_real t_hi, sig_real inv_step)
 {
-    uint8_t k;
     sig_real end_pos;
     if (p == NULL || table == NULL) return SIG_ERR_ARG;
     if (n_knots < SIG_PWL_MIN_KNOTS || !sig_real_isfinite(t_lo) || !sig_real_isfinite(t_hi)
@@ -14,9 +13,7 @@ sig_status sig_pwl_init_f(sig_pwl_f *p, const sig_real *table, uint8_t n_knots,
     end_pos = (t_hi - t_lo) * inv_step;
     if (!sig_real_isfinite(end_pos) || end_pos < (sig_real)(n_knots - 2u)
         || end_pos > (sig_real)(n_knots - 1u) * SIG_REAL(1.0001)) return SIG_ERR_ARG;
-    for (k = 0u; k < n_knots; ++k) {
-        if (!sig_real_isfinite(table[k])) return SIG_ERR_NONFINITE;
-    }
+    if (!sig_real_all_finite(table, n_knots)) return SIG_ERR_NONFINITE;
     p->table = table;
     p->t_lo = t_lo;
     p->t_hi = t_hi;
@@ -27,18 +24,12 @@ sig_status sig_pwl_init_f(sig_pwl_f *p, const sig_real *table, uint8_t n_knots,
 
 sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out)
 {
-    sig_status st = SIG_OK;
+    sig_status st;
     sig_real pos, lo, hi, frac, y;
     int32_t seg;
     if (p == NULL || out == NULL || p->table == NULL) return SIG_ERR_ARG;
     if (!(t < p->t_lo) && !(t >= p->t_lo)) return SIG_ERR_NONFINITE;   /* NaN */
-    if (t < p->t_lo) {
-        t = p->t_lo;
-        st = SIG_WARN_CLAMPED;
-    } else if (t > p->t_hi) {
-        t = p->t_hi;
-        st = SIG_WARN_CLAMPED;
-    }
+    st = sig_clamp_real(&t, p->t_lo, p->t_hi);
     pos = (t - p->t_lo) * p->inv_step;
     seg = (int32_t)pos;                      /* pos >= 0: truncation is floor */
     if (seg >= (int32_t)(p->n_knots - 1u)) {

@@ -155,10 +155,9 @@ sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order,
 
 sig_status sig_tcomp_scale_q(const sig_tcomp_q *m, int16_t t, int16_t *u_q15)
 {
-    sig_status st = SIG_OK;
+    sig_status st;
     if (m == NULL || u_q15 == NULL) return SIG_ERR_ARG;
-    if (t < m->t_lo) { t = m->t_lo; st = SIG_WARN_CLAMPED; }
-    else if (t > m->t_hi) { t = m->t_hi; st = SIG_WARN_CLAMPED; }
+    st = sig_clamp_i16(&t, m->t_lo, m->t_hi);
     *u_q15 = scale_in_range(m, t);
     return st;
 }
@@ -199,7 +198,7 @@ sig_status sig_tcomp_apply_q(const sig_tcomp_q *m, int16_t t, const int16_t *in,
 sig_status sig_tcomp_init_f(sig_tcomp_f *m, uint8_t n_axes, uint8_t order, const sig_real *coef,
                             sig_real t_lo, sig_real t_hi, sig_real center, sig_real inv_scale)
 {
-    uint8_t a, k, n;
+    uint8_t a, k;
     sig_real *dst;
     if (m == NULL || coef == NULL) return SIG_ERR_ARG;
     if (n_axes < 1u || n_axes > SIG_TCOMP_MAX_AXES) return SIG_ERR_ARG;
@@ -208,9 +207,7 @@ sig_status sig_tcomp_init_f(sig_tcomp_f *m, uint8_t n_axes, uint8_t order, const
         return SIG_ERR_NONFINITE;
     if (!(t_lo < t_hi) || center < t_lo || center > t_hi || !(inv_scale > SIG_REAL(0.0)))
         return SIG_ERR_ARG;
-    n = (uint8_t)(n_axes * (uint8_t)(order + 1u));
-    for (k = 0; k < n; k++)
-        if (!sig_real_isfinite(coef[k])) return SIG_ERR_NONFINITE;
+    if (!sig_real_all_finite(coef, (uint16_t)(n_axes * (order + 1u)))) return SIG_ERR_NONFINITE;
     for (a = 0; a < SIG_TCOMP_MAX_AXES; a++) {
         dst = m->coef[a];
         for (k = 0; k <= SIG_TCOMP_MAX_ORDER; k++) dst[k] = SIG_REAL(0.0);
@@ -228,15 +225,13 @@ sig_status sig_tcomp_init_f(sig_tcomp_f *m, uint8_t n_axes, uint8_t order, const
 
 sig_status sig_tcomp_apply_f(const sig_tcomp_f *m, sig_real t, const sig_real *in, sig_real *out)
 {
-    sig_status st = SIG_OK, st_poly;
+    sig_status st, st_poly;
     sig_real u, delta[SIG_TCOMP_MAX_AXES];
     uint8_t a;
     if (m == NULL || in == NULL || out == NULL) return SIG_ERR_ARG;
     if (!(t < m->t_lo) && !(t >= m->t_lo)) return SIG_ERR_NONFINITE;   /* NaN; +-inf clamps */
-    for (a = 0; a < m->n_axes; a++)
-        if (!sig_real_isfinite(in[a])) return SIG_ERR_NONFINITE;
-    if (t < m->t_lo) { t = m->t_lo; st = SIG_WARN_CLAMPED; }
-    else if (t > m->t_hi) { t = m->t_hi; st = SIG_WARN_CLAMPED; }
+    if (!sig_real_all_finite(in, m->n_axes)) return SIG_ERR_NONFINITE;
+    st = sig_clamp_real(&t, m->t_lo, m->t_hi);
     u = (t - m->center) * m->inv_scale;
     for (a = 0; a < m->n_axes; a++) {
         st_poly = sig_poly_horner_f(m->coef[a], m->order, u, &delta[a]);
