@@ -79,40 +79,27 @@ uint64_t __rt_mpyll(uint64_t a, uint64_t b)
     return umul32x32(al, bl) + ((uint64_t)(umul32_lo(al, bh) + umul32_lo(ah, bl)) << 32);
 }
 
-/* ---- shifts by a variable count (32-bit: R12:R13 value, R14 count) ------- */
-uint32_t __mspabi_slll(uint32_t a, int16_t n)
-{
-    n &= 31;
-    if (n & 16) { a <<= 16; n -= 16; }
-    while (n-- > 0) a <<= 1;
-    return a;
-}
+/* ---- shifts by a variable count: 16 at once if the count has that bit,
+ * then one at a time (OP is <<= or >>=; a negative value is shifted right
+ * arithmetically, as the helpers' contract says). */
+#define SHIFT_REST(a, n, OP) do {               \
+        if ((n) & 16) { (a) OP 16; (n) -= 16; } \
+        while ((n)-- > 0) (a) OP 1;             \
+    } while (0)
 
-uint32_t __mspabi_srll(uint32_t a, int16_t n)
-{
-    n &= 31;
-    if (n & 16) { a >>= 16; n -= 16; }
-    while (n-- > 0) a >>= 1;
-    return a;
-}
-
-int32_t __mspabi_sral(int32_t a, int16_t n)
-{
-    n &= 31;
-    if (n & 16) { a >>= 16; n -= 16; }
-    while (n-- > 0) a >>= 1;
-    return a;
-}
+/* 32-bit: R12:R13 value, R14 count */
+uint32_t __mspabi_slll(uint32_t a, int16_t n) { n &= 31; SHIFT_REST(a, n, <<=); return a; }
+uint32_t __mspabi_srll(uint32_t a, int16_t n) { n &= 31; SHIFT_REST(a, n, >>=); return a; }
+int32_t __mspabi_sral(int32_t a, int16_t n) { n &= 31; SHIFT_REST(a, n, >>=); return a; }
 
 /* 64-bit shifts: clang 14 calls the libgcc names with the normal C
- * convention (value R12:R15, count on the stack). */
+ * convention (value R12:R15, count on the stack); 32 at once first. */
 int64_t __ashldi3(int64_t a, int n)
 {
     uint64_t u = (uint64_t)a;
     n &= 63;
     if (n & 32) { u <<= 32; n -= 32; }
-    if (n & 16) { u <<= 16; n -= 16; }
-    while (n-- > 0) u <<= 1;
+    SHIFT_REST(u, n, <<=);
     return (int64_t)u;
 }
 
@@ -120,8 +107,7 @@ uint64_t __lshrdi3(uint64_t a, int n)
 {
     n &= 63;
     if (n & 32) { a >>= 32; n -= 32; }
-    if (n & 16) { a >>= 16; n -= 16; }
-    while (n-- > 0) a >>= 1;
+    SHIFT_REST(a, n, >>=);
     return a;
 }
 
@@ -129,107 +115,69 @@ int64_t __ashrdi3(int64_t a, int n)
 {
     n &= 63;
     if (n & 32) { a >>= 32; n -= 32; }
-    if (n & 16) { a >>= 16; n -= 16; }
-    while (n-- > 0) a >>= 1;
+    SHIFT_REST(a, n, >>=);
     return a;
 }
 
 /* ---- division: shift-subtract as in libgcc's udivmodsi4 (first align the
- * divisor under the dividend, so small quotients take few steps) --------- */
-static uint16_t udivmod16(uint16_t n, uint16_t d, uint16_t *rem)
-{
-    uint16_t bit = 1, q = 0;
-    while (d < n && !(d & 0x8000u)) { d <<= 1; bit <<= 1; }
-    while (bit) {
-        if (n >= d) { n -= d; q |= bit; }
-        bit >>= 1;
-        d >>= 1;
+ * divisor under the dividend, so small quotients take few steps); a zero
+ * divisor gives 0, remainder n. */
+#define DEFINE_UDIVMOD(name, U, TOP)                                 \
+    static U name(U n, U d, U *rem)                                  \
+    {                                                                \
+        U bit = 1, q = 0;                                            \
+        while (d < n && !(d & (TOP))) { d <<= 1; bit <<= 1; }        \
+        while (bit) {                                                \
+            if (n >= d) { n -= d; q |= bit; }                        \
+            bit >>= 1;                                               \
+            d >>= 1;                                                 \
+        }                                                            \
+        *rem = n;                                                    \
+        return q;                                                    \
     }
-    *rem = n;
-    return q;                       /* d == 0: returns 0, rem = n */
-}
+DEFINE_UDIVMOD(udivmod_uint16_t, uint16_t, 0x8000u)
+DEFINE_UDIVMOD(udivmod_uint32_t, uint32_t, 0x80000000u)
+DEFINE_UDIVMOD(udivmod64_wide, uint64_t, 0x8000000000000000u)
 
-static uint32_t udivmod32(uint32_t n, uint32_t d, uint32_t *rem)
+static uint64_t udivmod_uint64_t(uint64_t n, uint64_t d, uint64_t *rem)
 {
-    uint32_t bit = 1, q = 0;
-    while (d < n && !(d & 0x80000000u)) { d <<= 1; bit <<= 1; }
-    while (bit) {
-        if (n >= d) { n -= d; q |= bit; }
-        bit >>= 1;
-        d >>= 1;
-    }
-    *rem = n;
+    uint32_t r32;
+    uint64_t q;
+    if ((n >> 32) || (d >> 32)) return udivmod64_wide(n, d, rem);
+    q = udivmod_uint32_t((uint32_t)n, (uint32_t)d, &r32);   /* both fit in 32 bits */
+    *rem = r32;
     return q;
 }
 
-static uint64_t udivmod64(uint64_t n, uint64_t d, uint64_t *rem)
-{
-    uint64_t bit = 1, q = 0;
-    if (!(n >> 32) && !(d >> 32)) {            /* both fit in 32 bits */
-        uint32_t r32;
-        q = udivmod32((uint32_t)n, (uint32_t)d, &r32);
-        *rem = r32;
-        return q;
+/* Signed quotient and remainder from the unsigned ones, for each width:
+ * magnitudes in, the quotient negative when the signs differ, the
+ * remainder with the dividend's sign (C99 truncating division). */
+#define DEFINE_SDIVMOD(S, U, udivmod)                                          \
+    static S sdivmod_##S(S a, S b, S *rem)                                     \
+    {                                                                          \
+        U r, q = udivmod(a < 0 ? 0u - (U)a : (U)a, b < 0 ? 0u - (U)b : (U)b, &r); \
+        *rem = (S)(a < 0 ? 0u - r : r);                                        \
+        return (S)(((a < 0) != (b < 0)) ? 0u - q : q);                         \
     }
-    while (d < n && !(d & 0x8000000000000000u)) { d <<= 1; bit <<= 1; }
-    while (bit) {
-        if (n >= d) { n -= d; q |= bit; }
-        bit >>= 1;
-        d >>= 1;
-    }
-    *rem = n;
-    return q;
-}
+DEFINE_SDIVMOD(int16_t, uint16_t, udivmod_uint16_t)
+DEFINE_SDIVMOD(int32_t, uint32_t, udivmod_uint32_t)
+DEFINE_SDIVMOD(int64_t, uint64_t, udivmod_uint64_t)
 
-uint16_t __mspabi_divu(uint16_t a, uint16_t b) { uint16_t r; return udivmod16(a, b, &r); }
-uint16_t __mspabi_remu(uint16_t a, uint16_t b) { uint16_t r; udivmod16(a, b, &r); return r; }
-int16_t __mspabi_divi(int16_t a, int16_t b)
-{
-    uint16_t r, q = udivmod16(a < 0 ? 0u - (uint16_t)a : (uint16_t)a,
-                              b < 0 ? 0u - (uint16_t)b : (uint16_t)b, &r);
-    return (int16_t)(((a < 0) != (b < 0)) ? 0u - q : q);
-}
-int16_t __mspabi_remi(int16_t a, int16_t b)
-{
-    uint16_t r;
-    udivmod16(a < 0 ? 0u - (uint16_t)a : (uint16_t)a,
-              b < 0 ? 0u - (uint16_t)b : (uint16_t)b, &r);
-    return (int16_t)(a < 0 ? 0u - r : r);
-}
-
-uint32_t __mspabi_divul(uint32_t a, uint32_t b) { uint32_t r; return udivmod32(a, b, &r); }
-uint32_t __mspabi_remul(uint32_t a, uint32_t b) { uint32_t r; udivmod32(a, b, &r); return r; }
-int32_t __mspabi_divli(int32_t a, int32_t b)
-{
-    uint32_t r, q = udivmod32(a < 0 ? 0u - (uint32_t)a : (uint32_t)a,
-                              b < 0 ? 0u - (uint32_t)b : (uint32_t)b, &r);
-    return (int32_t)(((a < 0) != (b < 0)) ? 0u - q : q);
-}
-int32_t __mspabi_remli(int32_t a, int32_t b)
-{
-    uint32_t r;
-    udivmod32(a < 0 ? 0u - (uint32_t)a : (uint32_t)a,
-              b < 0 ? 0u - (uint32_t)b : (uint32_t)b, &r);
-    return (int32_t)(a < 0 ? 0u - r : r);
-}
+/* The EABI's four division helpers of one width (a / b, a % b, unsigned and signed). */
+#define DEFINE_DIV_HELPERS(divu, remu, divi, remi, U, S)                                       \
+    U divu(U a, U b) { U r; return udivmod_##U(a, b, &r); }                                   \
+    U remu(U a, U b) { U r; udivmod_##U(a, b, &r); return r; }                                \
+    S divi(S a, S b) { S r; return sdivmod_##S(a, b, &r); }                                   \
+    S remi(S a, S b) { S r; sdivmod_##S(a, b, &r); return r; }
+DEFINE_DIV_HELPERS(__mspabi_divu, __mspabi_remu, __mspabi_divi, __mspabi_remi, uint16_t, int16_t)
+DEFINE_DIV_HELPERS(__mspabi_divul, __mspabi_remul, __mspabi_divli, __mspabi_remli, uint32_t, int32_t)
 
 /* 64-bit division: C-convention bodies; rt_builtin.S passes the divisor
  * (R12:R15) first and the dividend (pushed from R8:R11) second. */
-uint64_t __rt_divull(uint64_t d, uint64_t n) { uint64_t r; return udivmod64(n, d, &r); }
-uint64_t __rt_remull(uint64_t d, uint64_t n) { uint64_t r; udivmod64(n, d, &r); return r; }
-int64_t __rt_divlli(int64_t d, int64_t n)
-{
-    uint64_t r, q = udivmod64(n < 0 ? 0u - (uint64_t)n : (uint64_t)n,
-                              d < 0 ? 0u - (uint64_t)d : (uint64_t)d, &r);
-    return (int64_t)(((n < 0) != (d < 0)) ? 0u - q : q);
-}
-int64_t __rt_remlli(int64_t d, int64_t n)
-{
-    uint64_t r;
-    udivmod64(n < 0 ? 0u - (uint64_t)n : (uint64_t)n,
-              d < 0 ? 0u - (uint64_t)d : (uint64_t)d, &r);
-    return (int64_t)(n < 0 ? 0u - r : r);
-}
+uint64_t __rt_divull(uint64_t d, uint64_t n) { uint64_t r; return udivmod_uint64_t(n, d, &r); }
+uint64_t __rt_remull(uint64_t d, uint64_t n) { uint64_t r; udivmod_uint64_t(n, d, &r); return r; }
+int64_t __rt_divlli(int64_t d, int64_t n) { int64_t r; return sdivmod_int64_t(n, d, &r); }
+int64_t __rt_remlli(int64_t d, int64_t n) { int64_t r; sdivmod_int64_t(n, d, &r); return r; }
 
 /* ---- clang may emit these for struct copies / zeroing, even freestanding */
 void *memcpy(void *dst, const void *src, size_t n)
