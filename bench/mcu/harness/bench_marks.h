@@ -25,4 +25,29 @@ NOINLINE void bench_axis2(void) { bench_mark = 5; }
 NOINLINE void bench_null_start(void) { bench_mark = 6; }
 NOINLINE void bench_null_stop(void) { bench_mark = 7; }
 
+/* The batch of test vectors between the start and stop markers:
+ * status[i] = CALL(i) for i in 0 .. n-1; then the end marker, after which
+ * the simulator script reads every output and status back. */
+#define BENCH_VECTORS(n, status, CALL) do {             \
+        uint16_t bench_i;                               \
+        bench_start();                                  \
+        for (bench_i = 0; bench_i < (n); bench_i++)     \
+            (status)[bench_i] = CALL(bench_i);          \
+        bench_stop();                                   \
+        bench_done();                                   \
+    } while (0)
+
+/* The globals the runner reads back by name from a compensation harness:
+ * the model, one reading compensated once (one_*), the vector outputs and
+ * every status. */
+#define BENCH_MODEL_GLOBALS(model_type, value_type, axes, n, one_in_init, one_t_init) \
+    sig_status init_status;                                                         \
+    sig_status one_status;                                                          \
+    sig_status vec_status[n];                                                       \
+    model_type model;                                                               \
+    value_type one_in[axes] = one_in_init;                                          \
+    value_type one_out[axes];                                                       \
+    value_type one_t = one_t_init;                                                  \
+    value_type vec_out[n][axes]
+
 #endif

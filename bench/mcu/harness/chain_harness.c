@@ -20,52 +20,47 @@ bool one_stable;
 sig_status vec_status[CH_N];
 bool vec_stable[CH_N];
 
+/* the two numeric forms differ only in these names */
 #ifdef BENCH_FLOAT
-sig_chain_f chain;
-sig_chain_params_f params = CH_PARAMS_F;
-sig_real one_x = CH_ONE_X_F;
-sig_real one_out;
-sig_real vec_out[CH_N];
-
-NOINLINE void run_batch(void)
-{
-    uint16_t i;
-    bench_start();
-    for (i = 0; i < CH_N; i++)
-        vec_status[i] = sig_chain_step_f(&chain, ch_x_f[i], &vec_out[i], &vec_stable[i]);
-    bench_stop();
-}
-
-int main(void)
-{
-    init_status = sig_chain_init_f(&chain, &params);
-    run_batch();
-    one_status = sig_chain_step_f(&chain, one_x, &one_out, &one_stable);
-    bench_done();
-    return 0;
-}
+typedef sig_chain_f chain_t;
+typedef sig_chain_params_f params_t;
+typedef sig_real value_t;
+#define CHAIN_INIT sig_chain_init_f
+#define CHAIN_STEP sig_chain_step_f
+#define PARAMS CH_PARAMS_F
+#define ONE_X CH_ONE_X_F
+#define VEC_X ch_x_f
 #else
-sig_chain_q chain;
-sig_chain_params_q params = CH_PARAMS_Q;
-int32_t one_x = CH_ONE_X_Q;
-int32_t one_out;
-int32_t vec_out[CH_N];
+typedef sig_chain_q chain_t;
+typedef sig_chain_params_q params_t;
+typedef int32_t value_t;
+#define CHAIN_INIT sig_chain_init_q
+#define CHAIN_STEP sig_chain_step_q
+#define PARAMS CH_PARAMS_Q
+#define ONE_X CH_ONE_X_Q
+#define VEC_X ch_x_q
+#endif
+
+chain_t chain;
+params_t params = PARAMS;
+value_t one_x = ONE_X;
+value_t one_out;
+value_t vec_out[CH_N];
 
 NOINLINE void run_batch(void)
 {
     uint16_t i;
     bench_start();
     for (i = 0; i < CH_N; i++)
-        vec_status[i] = sig_chain_step_q(&chain, ch_x_q[i], &vec_out[i], &vec_stable[i]);
+        vec_status[i] = CHAIN_STEP(&chain, VEC_X[i], &vec_out[i], &vec_stable[i]);
     bench_stop();
 }
 
 int main(void)
 {
-    init_status = sig_chain_init_q(&chain, &params);
+    init_status = CHAIN_INIT(&chain, &params);
     run_batch();
-    one_status = sig_chain_step_q(&chain, one_x, &one_out, &one_stable);
+    one_status = CHAIN_STEP(&chain, one_x, &one_out, &one_stable);
     bench_done();
     return 0;
 }
-#endif

@@ -40,25 +40,23 @@ sig_status vec_status3[PW_N];
 int main(void)
 {
     uint8_t a;
-    uint16_t i;
     for (a = 0; a < 3; a++)
         init_status[a] = sig_pwl_init_q16(&tab[a], pw_tables[a], PW_KNOTS, PW_T_LO, PW_T_HI,
                                           PW_RECIP, vfrac[a]);
 #ifdef PW_EVAL_AXES
     (void)a;
     one_status = PW_EVAL_AXES(tab, 3, PW_ONE_T, one_out3);
-    bench_start();
-    for (i = 0; i < PW_N; i++)
-        vec_status3[i] = PW_EVAL_AXES(tab, 3, pw_temps[i], vec_out3[i]);
-    bench_stop();
+#define VECTOR(i) PW_EVAL_AXES(tab, 3, pw_temps[i], vec_out3[i])
+    BENCH_VECTORS(PW_N, vec_status3, VECTOR);
 #else
+    uint16_t i;
     one_status = PW_EVAL(&tab[0], PW_ONE_T, &one_out);
     bench_start();
     for (a = 0; a < 3; a++)
         for (i = 0; i < PW_N; i++)
             vec_status[a][i] = PW_EVAL(&tab[a], pw_temps[i], &vec_out[a][i]);
     bench_stop();
-#endif
     bench_done();
+#endif
     return 0;
 }

@@ -19,25 +19,15 @@
 #define TC16_APPLY sig_tcomp16_apply_q
 #endif
 
-sig_status init_status;
-sig_status one_status;
-sig_status vec_status[TC16_N];
-sig_tcomp16_q model;
-int16_t one_in[TC16_AXES] = TC16_ONE_IN;
-int16_t one_out[TC16_AXES];
-int16_t one_t = TC16_ONE_T;
-int16_t vec_out[TC16_N][TC16_AXES];
+BENCH_MODEL_GLOBALS(sig_tcomp16_q, int16_t, TC16_AXES, TC16_N, TC16_ONE_IN, TC16_ONE_T);
+
+#define VECTOR(i) TC16_APPLY(&model, tc16_t[i], tc16_in[i], vec_out[i])
 
 int main(void)
 {
-    uint16_t i;
     init_status = sig_tcomp16_init(&model, TC16_AXES, TC16_ORDER, tc16_top, tc16_add,
                                    TC16_T_LO, TC16_T_HI, TC16_W_SHIFT);
     one_status = TC16_APPLY(&model, one_t, one_in, one_out);
-    bench_start();
-    for (i = 0; i < TC16_N; i++)
-        vec_status[i] = TC16_APPLY(&model, tc16_t[i], tc16_in[i], vec_out[i]);
-    bench_stop();
-    bench_done();
+    BENCH_VECTORS(TC16_N, vec_status, VECTOR);
     return 0;
 }

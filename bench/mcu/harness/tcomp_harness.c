@@ -12,44 +12,37 @@
 
 #include "bench_marks.h"
 
-sig_status init_status;
-sig_status one_status;
-sig_status vec_status[TC_N];
-
+/* the two numeric forms differ only in these names */
 #ifdef BENCH_FLOAT
-sig_tcomp_f model;
-sig_real one_in[TC_AXES] = TC_ONE_IN_F;
-sig_real one_out[TC_AXES];
-sig_real one_t = TC_ONE_T_F;
-sig_real vec_out[TC_N][TC_AXES];
+typedef sig_tcomp_f model_t;
+typedef sig_real value_t;
+#define MODEL_INIT(m) sig_tcomp_init_f((m), TC_AXES, TC_ORDER, tc_coef_f, \
+                                       TC_T_LO_F, TC_T_HI_F, TC_CENTER_F, TC_INV_SCALE_F)
+#define MODEL_APPLY sig_tcomp_apply_f
+#define ONE_IN TC_ONE_IN_F
+#define ONE_T TC_ONE_T_F
+#define VEC_T tc_t_f
+#define VEC_IN tc_in_f
 #else
-sig_tcomp_q model;
-int16_t one_in[TC_AXES] = TC_ONE_IN_Q;
-int16_t one_out[TC_AXES];
-int16_t one_t = TC_ONE_T_Q;
-int16_t vec_out[TC_N][TC_AXES];
+typedef sig_tcomp_q model_t;
+typedef int16_t value_t;
+#define MODEL_INIT(m) sig_tcomp_init_q((m), TC_AXES, TC_ORDER, tc_coef_q, tc_q, \
+                                       TC_T_LO, TC_T_HI, TC_CENTER, TC_T0, TC_U_MUL, TC_U_SHIFT)
+#define MODEL_APPLY sig_tcomp_apply_q
+#define ONE_IN TC_ONE_IN_Q
+#define ONE_T TC_ONE_T_Q
+#define VEC_T tc_t_q
+#define VEC_IN tc_in_q
 #endif
+
+BENCH_MODEL_GLOBALS(model_t, value_t, TC_AXES, TC_N, ONE_IN, ONE_T);
+
+#define VECTOR(i) MODEL_APPLY(&model, VEC_T[i], VEC_IN[i], vec_out[i])
 
 int main(void)
 {
-    uint16_t i;
-#ifdef BENCH_FLOAT
-    init_status = sig_tcomp_init_f(&model, TC_AXES, TC_ORDER, tc_coef_f,
-                                   TC_T_LO_F, TC_T_HI_F, TC_CENTER_F, TC_INV_SCALE_F);
-    one_status = sig_tcomp_apply_f(&model, one_t, one_in, one_out);
-    bench_start();
-    for (i = 0; i < TC_N; i++)
-        vec_status[i] = sig_tcomp_apply_f(&model, tc_t_f[i], tc_in_f[i], vec_out[i]);
-    bench_stop();
-#else
-    init_status = sig_tcomp_init_q(&model, TC_AXES, TC_ORDER, tc_coef_q, tc_q,
-                                   TC_T_LO, TC_T_HI, TC_CENTER, TC_T0, TC_U_MUL, TC_U_SHIFT);
-    one_status = sig_tcomp_apply_q(&model, one_t, one_in, one_out);
-    bench_start();
-    for (i = 0; i < TC_N; i++)
-        vec_status[i] = sig_tcomp_apply_q(&model, tc_t_q[i], tc_in_q[i], vec_out[i]);
-    bench_stop();
-#endif
-    bench_done();
+    init_status = MODEL_INIT(&model);
+    one_status = MODEL_APPLY(&model, one_t, one_in, one_out);
+    BENCH_VECTORS(TC_N, vec_status, VECTOR);
     return 0;
 }

@@ -16,15 +16,12 @@ int16_t vec_out[TM_N][TM_AXES];
 sig_tmodel model;
 int16_t storage[TM_STORAGE];
 
+#define VECTOR(i) sig_tmodel_apply(&model, tm_code[i], tm_in[i], vec_out[i])
+
 int main(void)
 {
-    uint16_t i;
     init_status = sig_tmodel_load_image(&model, storage, TM_STORAGE, tm_image, TM_IMAGE_LEN);
     loaded_family = model.family;
-    bench_start();
-    for (i = 0; i < TM_N; i++)
-        vec_status[i] = sig_tmodel_apply(&model, tm_code[i], tm_in[i], vec_out[i]);
-    bench_stop();
-    bench_done();
+    BENCH_VECTORS(TM_N, vec_status, VECTOR);
     return 0;
 }
