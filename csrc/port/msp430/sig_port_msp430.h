@@ -39,26 +39,21 @@
 #define SIG_MSP430_RESLO SIG_MSP430_MPY_REG(0xA)
 #define SIG_MSP430_RESHI SIG_MSP430_MPY_REG(0xC)
 
-static inline uint16_t sig_msp430_muladd_hi_u16(uint16_t a, uint16_t b, const uint16_t *c)
+/* high word of a * b + (c[1]:c[0]) on the multiplier: `op1` is the
+ * operand-1 register that picks the operation (MAC unsigned, MACS signed:
+ * a, b then two's-complement int16 bits); inlined with a constant register,
+ * so each use is the four moves and the read. */
+static inline uint16_t sig_msp430_muladd_hi(volatile uint16_t *op1, uint16_t a, uint16_t b,
+                                            const uint16_t *c)
 {
     SIG_MSP430_RESLO = c[0];
     SIG_MSP430_RESHI = c[1];
-    SIG_MSP430_MAC = a;
+    *op1 = a;
     SIG_MSP430_OP2 = b;
     return SIG_MSP430_RESHI;
 }
 
-/* a, b: two's-complement int16 bits */
-static inline uint16_t sig_msp430_muladd_hi_s16(uint16_t a, uint16_t b, const uint16_t *c)
-{
-    SIG_MSP430_RESLO = c[0];
-    SIG_MSP430_RESHI = c[1];
-    SIG_MSP430_MACS = a;
-    SIG_MSP430_OP2 = b;
-    return SIG_MSP430_RESHI;
-}
-
-#define SIG_MULADD_HI_U16(a, b, c) sig_msp430_muladd_hi_u16((a), (b), (c))
-#define SIG_MULADD_HI_S16(a, b, c) sig_msp430_muladd_hi_s16((a), (b), (c))
+#define SIG_MULADD_HI_U16(a, b, c) sig_msp430_muladd_hi(&SIG_MSP430_MAC, (a), (b), (c))
+#define SIG_MULADD_HI_S16(a, b, c) sig_msp430_muladd_hi(&SIG_MSP430_MACS, (a), (b), (c))
 
 #endif /* SIG_PORT_MSP430_H */
