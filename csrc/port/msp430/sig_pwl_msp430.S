@@ -16,15 +16,7 @@
  *   out = acc scaled by 2^(4 - value_frac) (arithmetic shifts: floor).
  * Offsets of sig_pwl_q16 are checked in sig_pwl_msp430.h.  MPY_BASE as in
  * sig_tcomp16_msp430.S; interrupts must not use the multiplier meanwhile. */
-#ifndef MPY_BASE
-#define MPY_BASE 0x04C0
-#endif
-    .set MPY,   MPY_BASE + 0x0
-    .set MPYS,  MPY_BASE + 0x2
-    .set MACS,  MPY_BASE + 0x6
-    .set OP2,   MPY_BASE + 0x8
-    .set RESLO, MPY_BASE + 0xA
-    .set RESHI, MPY_BASE + 0xC
+#include "sig_msp430_asm.h"
 #define TABLE   0
 #define RECIP_LO 2
 #define RECIP_HI 4
@@ -32,6 +24,36 @@
 #define T_HI    8
 #define N_KNOTS 12
 #define VFRAC   13
+
+/* The segment of temperature t (register t, clamped first: below/above are
+ * the caller's clamping code, which jumps back to `clamped`): d = t - t_lo
+ * times recip's high word on the multiplier, segment + 1 into seg, the
+ * position fraction (Q16) into frac; on to `last` when segment + 1 >=
+ * n_knots (exactly on the last knot).  Both entry points use it. */
+    .macro PWL_SEGMENT t, seg, frac, below, above, clamped, last
+    cmp     T_LO(r12), \t
+    jl      \below
+    cmp     \t, T_HI(r12)
+    jl      \above
+\clamped:
+    sub     T_LO(r12), \t          ; d
+    mov     \t, &MPY
+    mov     RECIP_HI(r12), &OP2
+    mov     &RESHI, \seg           ; segment
+    mov     &RESLO, \frac          ; fraction, Q16
+    inc     \seg
+    cmp.b   N_KNOTS(r12), \seg
+    jhs     \last
+    .endm
+
+/* the fraction Q16 -> Q12: an unsigned shift right by 4 */
+    .macro FRAC_Q12 frac
+    clrc
+    rrc     \frac
+    rra     \frac
+    rra     \frac
+    rra     \frac
+    .endm
 
     .section .text.sig_pwl_eval_msp430,"ax",@progbits
     .global sig_pwl_eval_msp430
@@ -49,26 +71,10 @@ sig_pwl_eval_msp430:
     jne     .Lportable
     push    r10
     clr     r11                     ; status
-    cmp     T_LO(r12), r13
-    jl      .Lbelow
-    cmp     r13, T_HI(r12)
-    jl      .Labove
-.Lclamped:
-    sub     T_LO(r12), r13          ; d
-    mov     r13, &MPY
-    mov     RECIP_HI(r12), &OP2
-    mov     &RESHI, r13             ; segment
-    mov     &RESLO, r10             ; fraction, Q16
-    inc     r13
-    cmp.b   N_KNOTS(r12), r13       ; segment + 1 >= n_knots: on the last knot
-    jhs     .Llast
+    PWL_SEGMENT r13, r13, r10, .Lbelow, .Labove, .Lclamped, .Llast
     rla     r13
     add     r13, r15                ; &table[segment + 1]
-    clrc
-    rrc     r10
-    rra     r10
-    rra     r10
-    rra     r10                     ; frac, Q12
+    FRAC_Q12 r10
     mov     -2(r15), &MPYS          ; lo * (4096 - frac)
     mov     #4096, r13
     sub     r10, r13
@@ -145,34 +151,14 @@ sig_pwl_eval_axes_msp430:
     jeq     .Laerr
     and     #0xFF, r13
     jeq     .Laerr
-    push    r10
-    push    r9
-    push    r8
-    push    r7
-    push    r6
+    PUSH_R10_TO_R6
     mov     r13, r7                 ; axes left
     tst     RECIP_LO(r12)
     jne     .Laportable
     clr     r11
-    cmp     T_LO(r12), r14
-    jl      .Labelow
-    cmp     r14, T_HI(r12)
-    jl      .Laabove
-.Laclamped:
-    sub     T_LO(r12), r14          ; d
-    mov     r14, &MPY
-    mov     RECIP_HI(r12), &OP2
-    mov     &RESHI, r9              ; segment
-    mov     &RESLO, r10             ; fraction, Q16
-    inc     r9
-    cmp.b   N_KNOTS(r12), r9
-    jhs     .Lalast
+    PWL_SEGMENT r14, r9, r10, .Labelow, .Laabove, .Laclamped, .Lalast
     rla     r9                      ; byte offset of table[segment + 1]
-    clrc
-    rrc     r10
-    rra     r10
-    rra     r10
-    rra     r10                     ; frac, Q12
+    FRAC_Q12 r10
     mov     #4096, r8
     sub     r10, r8                 ; 4096 - frac
 .Laxis_loop:
@@ -213,11 +199,7 @@ sig_pwl_eval_axes_msp430:
     jnz     .Laxis_loop
     mov     r11, r12
 .Lapop:
-    pop     r6
-    pop     r7
-    pop     r8
-    pop     r9
-    pop     r10
+    POP_R6_TO_R10
     ret
 .Lalast:                            ; on the last knot: hi = table[n - 1], frac = 1
     mov.b   N_KNOTS(r12), r9

@@ -18,14 +18,7 @@
  * checks them at compile time.  MPY_BASE: 0x04C0 on the F5510 (MPY32's 16x16
  * registers), 0x0130 for mspdebug 0.22's simulated multiplier.  Interrupt
  * handlers must not use the multiplier during a call (as sig_port_msp430.h). */
-#ifndef MPY_BASE
-#define MPY_BASE 0x04C0
-#endif
-    .set MAC,   MPY_BASE + 0x4
-    .set MACS,  MPY_BASE + 0x6
-    .set OP2,   MPY_BASE + 0x8
-    .set RESLO, MPY_BASE + 0xA
-    .set RESHI, MPY_BASE + 0xC
+#include "sig_msp430_asm.h"
 #define T_LO   66
 #define T_HI   68
 #define W_SHIFT 70
@@ -50,11 +43,7 @@ sig_tcomp16_apply_msp430:
     jeq     .Lerr
     tst     r15
     jeq     .Lerr
-    push    r10
-    push    r9
-    push    r8
-    push    r7
-    push    r6
+    PUSH_R10_TO_R6
     clr     r11                     ; status
     /* v = clamp(t) - t_lo */
     cmp     T_LO(r12), r13
@@ -177,11 +166,7 @@ sig_tcomp16_apply_msp430:
 
 .Ldone:
     mov     r11, r12
-    pop     r6
-    pop     r7
-    pop     r8
-    pop     r9
-    pop     r10
+    POP_R6_TO_R10
     ret
 .Lerr:
     mov     #-1, r12
