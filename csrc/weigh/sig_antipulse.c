@@ -75,16 +75,21 @@ static sig_real safe_mean_f(const sig_antipulse_f *s)
     return acc;
 }
 
-/* Maximum and minimum of the window (the evicted extreme made them stale). */
+/* Maximum and minimum of the window into mx, mn, after the sample leaving
+ * a full window was one of them (both forms; mx, mn locals: in registers). */
+#define WINDOW_EXTREMES(s, mx, mn) do {                     \
+        uint8_t i_;                                         \
+        (mx) = (mn) = (s)->buf[0];                          \
+        for (i_ = 1u; i_ < (s)->count; i_++) {              \
+            (mx) = (s)->buf[i_] > (mx) ? (s)->buf[i_] : (mx); \
+            (mn) = (s)->buf[i_] < (mn) ? (s)->buf[i_] : (mn); \
+        }                                                   \
+    } while (0)
+
 static void rescan_f(sig_antipulse_f *s)
 {
-    sig_real mx = s->buf[0], mn = s->buf[0], v;   /* locals: kept in registers */
-    uint8_t i;
-    for (i = 1u; i < s->count; i++) {
-        v = s->buf[i];
-        mx = v > mx ? v : mx;
-        mn = v < mn ? v : mn;
-    }
+    sig_real mx, mn;
+    WINDOW_EXTREMES(s, mx, mn);
     s->mx = mx;
     s->mn = mn;
 }
@@ -170,9 +175,9 @@ sig_status sig_antipulse_reset_q(sig_antipulse_q *s)
 sig_status sig_antipulse_step_q(sig_antipulse_q *s, int32_t x, int32_t *out)
 {
     sig_status st = SIG_OK;
-    int32_t old, v, t;
+    int32_t old, t;
     bool full;
-    uint8_t i, d;
+    uint8_t d;
     if (!s || !out) return SIG_ERR_ARG;
     if (x > SIG_CODE_MAX) { x = SIG_CODE_MAX; st = SIG_WARN_CLAMPED; }
     else if (x < -SIG_CODE_MAX) { x = -SIG_CODE_MAX; st = SIG_WARN_CLAMPED; }
@@ -185,12 +190,8 @@ sig_status sig_antipulse_step_q(sig_antipulse_q *s, int32_t x, int32_t *out)
     if (s->count == 1u) {
         s->mx = s->mn = x;
     } else if (full && (old == s->mx || old == s->mn)) {
-        int32_t mx = s->buf[0], mn = s->buf[0];     /* locals: kept in registers */
-        for (i = 1u; i < s->count; i++) {
-            v = s->buf[i];
-            mx = v > mx ? v : mx;
-            mn = v < mn ? v : mn;
-        }
+        int32_t mx, mn;
+        WINDOW_EXTREMES(s, mx, mn);
         s->mx = mx;
         s->mn = mn;
     } else {

@@ -614,17 +614,10 @@ class Chain:
     def offset(self):
         return self.offset_raw / 128 if self.fixed else self.offset_raw
 
-    @property
-    def x(self):
-        return self.kf.x
-
-    @property
-    def P(self):
-        return self.kf.P
-
-    @property
-    def K(self):
-        return self.kf.K
+    # the Kalman stage's estimate, variance and gain, as the chain shows them
+    x = property(lambda self: self.kf.x)
+    P = property(lambda self: self.kf.P)
+    K = property(lambda self: self.kf.K)
 
     @property
     def Dc(self):
