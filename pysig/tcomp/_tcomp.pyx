@@ -9,6 +9,8 @@ from libc.stdint cimport int16_t, int32_t, uint8_t, uint16_t, uint32_t
 from ..errors import ModelFileError, NonFiniteError, RangeError
 from ..status import Status, describe
 
+from ._axes cimport apply_axes, sig_tcomp_q
+
 cnp.import_array()
 
 cdef extern from "sig_types.h":
@@ -32,18 +34,6 @@ cdef extern from "sig_image.h":
                                      size_t len_b, uint8_t *which) nogil
 
 cdef extern from "sig_tcomp.h":
-    ctypedef struct sig_tcomp_q:
-        uint8_t n_axes
-        uint8_t order
-        int16_t t_lo
-        int16_t t_hi
-        int16_t t_center
-        int16_t t0
-        int16_t u_mul
-        uint8_t u_shift
-        uint8_t q[3]
-        int32_t coef[3][9]
-        bint no_overflow
     ctypedef struct sig_tcomp_f:
         uint8_t n_axes
     sig_status sig_tcomp_init_q(sig_tcomp_q *m, uint8_t n_axes, uint8_t order, const int32_t *coef,
@@ -51,7 +41,6 @@ cdef extern from "sig_tcomp.h":
                                 int16_t t0, int16_t u_mul, uint8_t u_shift)
     sig_status sig_tcomp_scale_q(const sig_tcomp_q *m, int16_t t, int16_t *u) nogil
     sig_status sig_tcomp_delta_q(const sig_tcomp_q *m, uint8_t axis, int16_t t, int32_t *delta) nogil
-    sig_status sig_tcomp_apply_q(const sig_tcomp_q *m, int16_t t, const int16_t *inp, int16_t *out) nogil
     sig_status sig_tcomp_init_f(sig_tcomp_f *m, uint8_t n_axes, uint8_t order, const sig_real *coef,
                                 sig_real t_lo, sig_real t_hi, sig_real center, sig_real inv_scale)
     sig_status sig_tcomp_apply_f(const sig_tcomp_f *m, sig_real t, const sig_real *inp, sig_real *out) nogil
@@ -221,16 +210,9 @@ cdef class TcompQ:
     def apply(self, temp, readings):
         """sig_tcomp_apply_q per sample: temp int16 (n,), readings int16
         (n, n_axes) -> (int16 (n, n_axes), status (n,))."""
-        cdef cnp.ndarray[cnp.int16_t, ndim=1] t = _int16(temp, "temperature")
-        cdef cnp.ndarray[cnp.int16_t, ndim=2] x = _int16_readings(readings, self.m.n_axes, t.shape[0],
-                                                                  "TcompQ.apply")
-        cdef Py_ssize_t n = t.shape[0], i
-        cdef cnp.ndarray[cnp.int16_t, ndim=2] out = np.zeros((n, self.m.n_axes), dtype=np.int16)
-        cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-        with nogil:
-            for i in range(n):
-                st[i] = sig_tcomp_apply_q(&self.m, t[i], &x[i, 0], &out[i, 0])
-        return out, st
+        t = _int16(temp, "temperature")
+        x = _int16_readings(readings, self.m.n_axes, t.shape[0], "TcompQ.apply")
+        return apply_axes(&self.m, t.view(np.uint16), x)
 
 
 cdef class TcompF:

@@ -11,23 +11,16 @@ from ._tcomp import _int16, _int16_readings    # the same int16 checks as the in
 from ..errors import ModelFileError, RangeError
 from ..status import describe
 
+from ._axes cimport apply_axes, sig_tcomp16_q
+
 cnp.import_array()
 
 cdef extern from "sig_types.h":
     ctypedef int16_t sig_status
 
 cdef extern from "sig_tcomp16.h":
-    ctypedef struct sig_tcomp16_q:
-        uint16_t coef[33]
-        uint8_t n_axes
-        uint8_t order
-        int16_t t_lo
-        int16_t t_hi
-        uint8_t w_shift
     sig_status sig_tcomp16_init(sig_tcomp16_q *m, uint8_t n_axes, uint8_t order, const int16_t *top,
                                 const int32_t *add, int16_t t_lo, int16_t t_hi, uint8_t w_shift)
-    sig_status sig_tcomp16_apply_q(const sig_tcomp16_q *m, int16_t t, const int16_t *inp,
-                                   int16_t *out) nogil
     sig_status sig_tcomp16_load_image(sig_tcomp16_q *m, const uint8_t *image, size_t len)
 
 
@@ -135,14 +128,7 @@ cdef class Tcomp16Q:
     def apply(self, temp, readings):
         """sig_tcomp16_apply_q per sample: temp int16 (n,), readings int16
         (n, n_axes) -> (int16 (n, n_axes), status (n,))."""
-        cdef cnp.ndarray[cnp.int16_t, ndim=1] t = _int16(temp, "temperature")
-        cdef cnp.ndarray[cnp.int16_t, ndim=2] x = _int16_readings(readings, self.m.n_axes, t.shape[0],
-                                                                  "Tcomp16Q.apply")
-        cdef Py_ssize_t n = t.shape[0], i
-        cdef cnp.ndarray[cnp.int16_t, ndim=2] out = np.zeros((n, self.m.n_axes), dtype=np.int16)
-        cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-        with nogil:
-            for i in range(n):
-                st[i] = sig_tcomp16_apply_q(&self.m, t[i], &x[i, 0], &out[i, 0])
-        return out, st
+        t = _int16(temp, "temperature")
+        x = _int16_readings(readings, self.m.n_axes, t.shape[0], "Tcomp16Q.apply")
+        return apply_axes(&self.m, t.view(np.uint16), x)
 

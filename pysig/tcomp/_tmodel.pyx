@@ -8,6 +8,7 @@ from libc.stdint cimport int16_t, uint8_t, uint16_t
 
 from ._tcomp import _int16_readings
 from ..errors import ModelFileError, RangeError
+from ._axes cimport apply_axes, sig_tmodel
 
 cnp.import_array()
 
@@ -15,16 +16,10 @@ cdef extern from "sig_types.h":
     ctypedef int16_t sig_status
 
 cdef extern from "sig_tmodel.h":
-    ctypedef struct sig_tmodel:
-        uint8_t family
-        uint8_t code_kind
-        uint8_t n_axes
     int SIG_TMODEL_POLY, SIG_TMODEL_COMPACT, SIG_TMODEL_TABLE
     int16_t sig_tmodel_code_to_t(uint8_t code_kind, uint16_t code) nogil
     sig_status sig_tmodel_load_image(sig_tmodel *m, int16_t *storage, uint16_t storage_len,
                                      const uint8_t *image, size_t len)
-    sig_status sig_tmodel_apply(const sig_tmodel *m, uint16_t code, const int16_t *inp,
-                                int16_t *out) nogil
 
 FAMILY_NAMES = {SIG_TMODEL_POLY: "poly", SIG_TMODEL_COMPACT: "compact", SIG_TMODEL_TABLE: "table"}
 CODE_KINDS = {0: "int16", 1: "uint16"}
@@ -91,13 +86,6 @@ cdef class TModel:
         c_arr = np.asarray(codes)
         if c_arr.size and (c_arr.min() < 0 or c_arr.max() > 0xFFFF):
             raise RangeError("TModel.apply: temperature codes must be 16-bit (0..65535)")
-        cdef cnp.ndarray[cnp.uint16_t, ndim=1] c = np.ascontiguousarray(np.ravel(c_arr), dtype=np.uint16)
-        cdef cnp.ndarray[cnp.int16_t, ndim=2] x = _int16_readings(readings, self.m.n_axes, c.shape[0],
-                                                                  "TModel.apply")
-        cdef Py_ssize_t n = c.shape[0], i
-        cdef cnp.ndarray[cnp.int16_t, ndim=2] out = np.zeros((n, self.m.n_axes), dtype=np.int16)
-        cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-        with nogil:
-            for i in range(n):
-                st[i] = sig_tmodel_apply(&self.m, c[i], &x[i, 0], &out[i, 0])
-        return out, st
+        c = np.ascontiguousarray(np.ravel(c_arr), dtype=np.uint16)
+        x = _int16_readings(readings, self.m.n_axes, c.shape[0], "TModel.apply")
+        return apply_axes(&self.m, c, x)
