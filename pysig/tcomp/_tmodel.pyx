@@ -8,6 +8,7 @@ from libc.stdint cimport int16_t, uint8_t, uint16_t
 
 from ._tcomp import _int16_readings
 from ..errors import ModelFileError, RangeError
+from ..status import Status, describe
 from ._axes cimport apply_axes, sig_tmodel
 
 cnp.import_array()
@@ -24,10 +25,14 @@ cdef extern from "sig_tmodel.h":
 FAMILY_NAMES = {SIG_TMODEL_POLY: "poly", SIG_TMODEL_COMPACT: "compact", SIG_TMODEL_TABLE: "table"}
 CODE_KINDS = {0: "int16", 1: "uint16"}
 STORAGE_ENTRIES = 3 * 255
-_STATUS_TEXT = {-1: "too little table storage or a NULL pointer",
-                -3: "bad format (magic, version, length, sections or a model payload)",
-                -4: "CRC mismatch",
-                -5: "no model section (offset polynomial, compact polynomial or table)"}
+
+
+def _load_problem(st):
+    """What a refused sig_tmodel_load_image status means (ERR_ARG: here the
+    table storage is what was too small)."""
+    if st == Status.ERR_ARG:
+        return "too little table storage or a NULL pointer"
+    return describe(st, "model")
 
 
 def code_to_t(code_kind, codes):
@@ -54,7 +59,7 @@ cdef class TModel:
         st = self.load(data)
         if st != 0:
             raise ModelFileError(f"{where}: the C loader rejected the image: "
-                                 f"{_STATUS_TEXT.get(st, f'status {st}')}")
+                                 f"{_load_problem(st)}")
         return self
 
     def load(self, data):
