@@ -108,16 +108,13 @@ def lag_q(x, int alpha_q16, int frac, state=None):
         raise RangeError(f"lag: alpha_q16={alpha_q16} (1..65536), frac={frac} (0..16) rejected")
     if state is not None:
         s.z, s.primed = state
+    cdef Py_ssize_t i
     cdef cnp.ndarray[cnp.int32_t, ndim=1] xs = _i32(x)
-    cdef Py_ssize_t n = xs.shape[0], i
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.empty(n, dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-    cdef int32_t y
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(xs.shape[0], dtype=np.int32)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(xs.shape[0], dtype=np.int16)
     with nogil:
-        for i in range(n):
-            y = 0
-            st[i] = sig_lag_step_q(&s, xs[i], &y)
-            out[i] = y
+        for i in range(xs.shape[0]):
+            st[i] = sig_lag_step_q(&s, xs[i], &out[i])
     return out, st, (int(s.z), bool(s.primed))
 
 

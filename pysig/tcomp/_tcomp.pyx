@@ -51,21 +51,26 @@ def mul_q15(int32_t a, int16_t u):
     return sig_mul_q15_32x16(a, u)
 
 
+def _coefficients(coef, dtype, what):
+    """The polynomial's coefficients as one contiguous `dtype` array (at least one)."""
+    c = np.ascontiguousarray(coef, dtype=dtype)
+    if c.ndim != 1 or c.shape[0] < 1:
+        raise RangeError(f"{what}: no coefficients")
+    return c
+
+
 def horner_q15(coef, int16_t u):
     """(value, status) of sig_poly_horner_q15."""
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] c = np.ascontiguousarray(coef, dtype=np.int32)
+    cdef const int32_t[::1] c = _coefficients(coef, np.int32, "horner_q15")
     cdef int32_t out = 0
-    if c.shape[0] < 1:
-        raise RangeError("horner_q15: no coefficients")
     st = sig_poly_horner_q15(&c[0], <uint8_t>(c.shape[0] - 1), u, &out)
     return out, st
 
 
 def horner_f(coef, double u):
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] c = np.ascontiguousarray(coef, dtype=np.float64)
+    """(value, status) of sig_poly_horner_f."""
+    cdef const double[::1] c = _coefficients(coef, np.float64, "horner_f")
     cdef double out = 0.0
-    if c.shape[0] < 1:
-        raise RangeError("horner_f: no coefficients")
     st = sig_poly_horner_f(&c[0], <uint8_t>(c.shape[0] - 1), u, &out)
     return out, st
 
@@ -178,33 +183,27 @@ cdef class TcompQ:
 
     def scale(self, temp):
         """(u Q0.15 int16 array, status array) for int16 temperatures."""
+        cdef Py_ssize_t i
         cdef cnp.ndarray[cnp.int16_t, ndim=1] t = _int16(temp, "temperature")
-        cdef Py_ssize_t n = t.shape[0], i
-        cdef cnp.ndarray[cnp.int16_t, ndim=1] u = np.empty(n, dtype=np.int16)
-        cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-        cdef int16_t v
+        cdef cnp.ndarray[cnp.int16_t, ndim=1] u = np.zeros(t.shape[0], dtype=np.int16)
+        cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(t.shape[0], dtype=np.int16)
         with nogil:
-            for i in range(n):
-                v = 0
-                st[i] = sig_tcomp_scale_q(&self.m, t[i], &v)
-                u[i] = v
+            for i in range(t.shape[0]):
+                st[i] = sig_tcomp_scale_q(&self.m, t[i], &u[i])
         return u, st
 
     def delta(self, int axis, temp):
         """(int32 delta in Q(q[axis]) array, status array)."""
         if not 0 <= axis < self.m.n_axes:
             raise RangeError(f"TcompQ.delta: axis {axis} outside 0..{self.m.n_axes - 1}")
-        cdef cnp.ndarray[cnp.int16_t, ndim=1] t = _int16(temp, "temperature")
-        cdef Py_ssize_t n = t.shape[0], i
-        cdef cnp.ndarray[cnp.int32_t, ndim=1] d = np.empty(n, dtype=np.int32)
-        cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-        cdef int32_t v
+        cdef Py_ssize_t i
         cdef uint8_t ax = <uint8_t>axis
+        cdef cnp.ndarray[cnp.int16_t, ndim=1] t = _int16(temp, "temperature")
+        cdef cnp.ndarray[cnp.int32_t, ndim=1] d = np.zeros(t.shape[0], dtype=np.int32)
+        cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(t.shape[0], dtype=np.int16)
         with nogil:
-            for i in range(n):
-                v = 0
-                st[i] = sig_tcomp_delta_q(&self.m, ax, t[i], &v)
-                d[i] = v
+            for i in range(t.shape[0]):
+                st[i] = sig_tcomp_delta_q(&self.m, ax, t[i], &d[i])
         return d, st
 
     def apply(self, temp, readings):

@@ -46,18 +46,15 @@ cdef class ScaleQ16:
 
     def apply(self, counts):
         """int32 ADC codes -> (int32 Q16.16 masses, bool saturated flags)."""
+        cdef Py_ssize_t i
         cdef cnp.ndarray[cnp.int32_t, ndim=1] x = np.ascontiguousarray(np.ravel(counts), dtype=np.int32)
         if not np.array_equal(x, np.ravel(counts)):
             raise RangeError("ScaleQ16.apply: counts must be integers within int32")
-        cdef Py_ssize_t n = x.shape[0], i
-        cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.empty(n, dtype=np.int32)
-        cdef cnp.ndarray[cnp.uint8_t, ndim=1] sat = np.zeros(n, dtype=np.uint8)
-        cdef int32_t y
+        cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(x.shape[0], dtype=np.int32)
+        cdef cnp.ndarray[cnp.uint8_t, ndim=1] sat = np.zeros(x.shape[0], dtype=np.uint8)
         with nogil:
-            for i in range(n):
-                y = 0
-                sat[i] = sig_scale_apply_q16(&self.s, x[i], &y) != 0
-                out[i] = y
+            for i in range(x.shape[0]):
+                sat[i] = sig_scale_apply_q16(&self.s, x[i], &out[i]) != 0
         return out, sat.astype(bool)
 
 
