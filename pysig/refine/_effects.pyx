@@ -150,20 +150,14 @@ def hyst_q(t, int width, int k_q16, int start=0, state=None):
         raise RangeError(f"hysteresis: width={width} must be 1..32767, start={start} in -1, 0, 1")
     if state is not None:
         s.p, s.primed = state
+    cdef Py_ssize_t i
     cdef cnp.ndarray[cnp.int16_t, ndim=1] ts = np.ascontiguousarray(np.ravel(t), dtype=np.int16)
-    cdef Py_ssize_t n = ts.shape[0], i
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] br = np.empty(n, dtype=np.int16)
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] c = np.empty(n, dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-    cdef int16_t b
-    cdef int32_t v
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] br = np.zeros(ts.shape[0], dtype=np.int16)
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] c = np.zeros(ts.shape[0], dtype=np.int32)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(ts.shape[0], dtype=np.int16)
     with nogil:
-        for i in range(n):
-            b = 0
-            v = 0
-            st[i] = sig_hyst_step_q(&s, ts[i], &b, &v)
-            br[i] = b
-            c[i] = v
+        for i in range(ts.shape[0]):
+            st[i] = sig_hyst_step_q(&s, ts[i], &br[i], &c[i])
     return br, c, st, (int(s.p), bool(s.primed))
 
 
@@ -200,19 +194,14 @@ def creep_q(x, int alpha_q16, int frac, int k_q16, state=None):
         raise RangeError(f"creep: alpha_q16={alpha_q16} (1..65536), frac={frac} (0..16) rejected")
     if state is not None:
         s.lag.z, s.lag.primed = state
+    cdef Py_ssize_t i
     cdef cnp.ndarray[cnp.int32_t, ndim=1] xs = _i32(x)
-    cdef Py_ssize_t n = xs.shape[0], i
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] c = np.empty(n, dtype=np.int32)
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] y = np.empty(n, dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-    cdef int32_t a, b
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] c = np.zeros(xs.shape[0], dtype=np.int32)
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] y = np.zeros(xs.shape[0], dtype=np.int32)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(xs.shape[0], dtype=np.int16)
     with nogil:
-        for i in range(n):
-            a = 0
-            b = 0
-            st[i] = sig_creep_step_q(&s, xs[i], &a, &b)
-            c[i] = a
-            y[i] = b
+        for i in range(xs.shape[0]):
+            st[i] = sig_creep_step_q(&s, xs[i], &c[i], &y[i])
     return c, y, st, (int(s.lag.z), bool(s.lag.primed))
 
 
@@ -250,16 +239,13 @@ def gain_q(coef, u, x):
     cdef cnp.ndarray[cnp.int16_t, ndim=1] us = np.ascontiguousarray(np.ravel(u), dtype=np.int16)
     cdef cnp.ndarray[cnp.int32_t, ndim=1] xs = _i32(x)
     cdef Py_ssize_t n = xs.shape[0], i
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.empty(n, dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-    cdef int32_t y
     if us.shape[0] != n:
         raise RangeError(f"gain: {us.shape[0]} temperatures for {n} readings")
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(n, dtype=np.int32)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
     with nogil:
         for i in range(n):
-            y = 0
-            st[i] = sig_gain_apply_q(&g, us[i], xs[i], &y)
-            out[i] = y
+            st[i] = sig_gain_apply_q(&g, us[i], xs[i], &out[i])
     return out, st
 
 
@@ -288,16 +274,13 @@ def nonlin_q(coef, int center, int k_q16, int shift, x):
     if (cs.shape[0] < 1 or cs.shape[0] > 9 or not (0 <= shift <= 255)
             or sig_nonlin_init_q(&m, &cs[0], <uint8_t>(cs.shape[0] - 1), center, k_q16, <uint8_t>shift) != 0):
         raise RangeError(f"nonlinearity: {cs.shape[0]} coefficients, k_q16={k_q16}, shift={shift} rejected")
+    cdef Py_ssize_t i
     cdef cnp.ndarray[cnp.int32_t, ndim=1] xs = _i32(x)
-    cdef Py_ssize_t n = xs.shape[0], i
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.empty(n, dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-    cdef int32_t y
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(xs.shape[0], dtype=np.int32)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(xs.shape[0], dtype=np.int16)
     with nogil:
-        for i in range(n):
-            y = 0
-            st[i] = sig_nonlin_apply_q(&m, xs[i], &y)
-            out[i] = y
+        for i in range(xs.shape[0]):
+            st[i] = sig_nonlin_apply_q(&m, xs[i], &out[i])
     return out, st
 
 
@@ -327,15 +310,12 @@ def cross_q(k_q16, x, others):
     cdef cnp.ndarray[cnp.int32_t, ndim=1] xs = _i32(x)
     cdef cnp.ndarray[cnp.int32_t, ndim=2] os = np.ascontiguousarray(others, dtype=np.int32).reshape(-1, ks.shape[0])
     cdef Py_ssize_t n = xs.shape[0], i
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.empty(n, dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-    cdef int32_t y
     if os.shape[0] != n:
         raise RangeError(f"cross-axis: {os.shape[0]} rows of other axes for {n} readings")
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(n, dtype=np.int32)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
     for i in range(n):
-        y = 0
-        st[i] = sig_cross_apply_q(&c, xs[i], &os[i, 0], &y)
-        out[i] = y
+        st[i] = sig_cross_apply_q(&c, xs[i], &os[i, 0], &out[i])
     return out, st
 
 
@@ -393,14 +373,11 @@ def refined_q(t, y, offset, lag=None, hyst=None, gain=None):
     cdef cnp.ndarray[cnp.int16_t, ndim=1] ts = np.ascontiguousarray(np.ravel(t), dtype=np.int16)
     cdef cnp.ndarray[cnp.int16_t, ndim=1] ys = np.ascontiguousarray(np.ravel(y), dtype=np.int16)
     cdef Py_ssize_t n = ts.shape[0], i
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.empty(n, dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-    cdef int32_t v
     if ys.shape[0] != n:
         raise RangeError(f"refined: {n} temperatures for {ys.shape[0]} readings")
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(n, dtype=np.int32)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
     with nogil:
         for i in range(n):
-            v = 0
-            st[i] = sig_refined_step_q(&r, ts[i], ys[i], &v)
-            out[i] = v
+            st[i] = sig_refined_step_q(&r, ts[i], ys[i], &out[i])
     return out, st

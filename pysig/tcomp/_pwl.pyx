@@ -44,10 +44,9 @@ def eval_q16(table, long long t_lo, long long t_hi, long long recip, long long v
     cdef cnp.ndarray[cnp.int16_t, ndim=1] tab = np.ascontiguousarray(table, dtype=np.int16)
     cdef cnp.ndarray[cnp.int16_t, ndim=1] temps = np.ascontiguousarray(np.ravel(t), dtype=np.int16)
     cdef Py_ssize_t n = temps.shape[0], i
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.empty(n, dtype=np.int32)
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(n, dtype=np.int32)
     cdef cnp.ndarray[cnp.int16_t, ndim=1] status = np.empty(n, dtype=np.int16)
     cdef sig_pwl_q16 p
-    cdef int32_t y
     if tab.shape[0] > 255 or not (-32768 <= t_lo <= 32767 and -32768 <= t_hi <= 32767
                                   and 0 <= recip <= 0xFFFFFFFF and 0 <= value_frac <= 255):
         raise RangeError("pwl: table or parameters out of their C types' range")
@@ -58,9 +57,7 @@ def eval_q16(table, long long t_lo, long long t_hi, long long recip, long long v
                          f"t_hi={t_hi}, recip={recip}, value_frac={value_frac}")
     with nogil:
         for i in range(n):
-            y = 0
-            status[i] = sig_pwl_eval_q16(&p, temps[i], &y)
-            out[i] = y
+            status[i] = sig_pwl_eval_q16(&p, temps[i], &out[i])
     return out, status
 
 
