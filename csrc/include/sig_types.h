@@ -34,6 +34,15 @@ typedef float sig_real;
 
 #define SIG_Q16_ONE INT32_C(65536)
 
+/* The length of a run of successive samples that share a property (within
+ * the step, outside the band, rejected on one side) after one more sample:
+ * one longer when it has the property, else 0; it stops growing at 255.
+ * A macro, not a helper: the stages call it every sample and an 8051 call
+ * costs more than the compare (`run` is read more than once: pass a plain
+ * lvalue). */
+#define SIG_RUN_NEXT(run, more) \
+    ((uint8_t)((more) ? ((run) < 255u ? (run) + 1u : (run)) : 0u))
+
 /* ---- saturating 32-bit arithmetic ---------------------------------------- */
 
 /* Host compilers and clang (MSP430) inline these helpers.  sdcc (8051) gives
@@ -52,7 +61,6 @@ int32_t sig_asr32(int32_t x, uint8_t n);
 int32_t sig_shl32_sat(int32_t x, uint8_t n);
 int32_t sig_mul_q16_sat(int32_t a, int32_t b);
 bool sig_real_isfinite(sig_real x);
-uint8_t sig_run_next(uint8_t run, bool more);
 sig_status sig_clamp_i16(int16_t *x, int16_t lo, int16_t hi);
 sig_status sig_clamp_real(sig_real *x, sig_real lo, sig_real hi);
 bool sig_real_all_finite(const sig_real *v, uint16_t n);
@@ -155,15 +163,6 @@ SIG_HELPER int32_t sig_mul_q16_sat(int32_t a, int32_t b)
 SIG_HELPER bool sig_real_isfinite(sig_real x)
 {
     return x - x == SIG_REAL(0.0);
-}
-
-/* The length of a run of successive samples that share a property (within
- * the step, outside the band, rejected on one side) after one more sample:
- * one longer when it has the property, else 0; it stops growing at 255. */
-SIG_HELPER uint8_t sig_run_next(uint8_t run, bool more)
-{
-    if (!more) return 0u;
-    return run < 255u ? (uint8_t)(run + 1u) : run;
 }
 
 /* *x limited to [lo, hi] (lo <= hi): SIG_WARN_CLAMPED when it had to move,

@@ -67,29 +67,31 @@ static void set_thresholds_f(sig_chain_f *c)
 }
 
 /* noise_auto, after the stages: whether this sample may update the noise
- * estimate - not on a motion or re-seed event nor for a window after it,
- * not on a rejected sample nor the one after it (sig_chain.h) - and the
- * escape when updates have been held too long. */
-static bool noise_gate(sig_chain_gate *g, uint8_t *noise_count, uint8_t window, uint8_t motion_run,
-                       sig_status ret)
-{
-    bool event = (ret & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED)) != 0;
-    bool rejected = (ret & SIG_WARN_REJECTED) != 0;
-    bool update;
-    if (event) g->holdoff = window;
-    else if (g->holdoff > 0u) g->holdoff--;
-    if (!event && !rejected && !g->rejected_prev && g->holdoff == 0u && motion_run == 0u) {
-        if (g->frozen > 0u) g->frozen--;
-        update = true;
-    } else {
-        if (g->frozen < 2u * SIG_CHAIN_NOISE_FROZEN_MAX) g->frozen++;
-        if (g->frozen == SIG_CHAIN_NOISE_FROZEN_MAX && *noise_count > 8u)
-            *noise_count = 8u;                  /* the noise changed: large steps again */
-        update = g->frozen >= SIG_CHAIN_NOISE_FROZEN_MAX || *noise_count < SIG_NOISE_WARMUP;
-    }
-    g->rejected_prev = rejected;
-    return update;
-}
+ * estimate (bool `update`) - not on a motion or re-seed event nor for a
+ * window after it, not on a rejected sample nor the one after it
+ * (sig_chain.h) - and the escape when updates have been held too long (the
+ * estimator's update count drops back to 8: large steps again).  A macro
+ * over either chain (the fields have the same names in both): on the 8051 a
+ * call, even an inlined one, costs more than the test. */
+#define NOISE_GATE(c, ret, update) do {                                              \
+        bool event_ = ((ret) & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED)) != 0;        \
+        bool rejected_ = ((ret) & SIG_WARN_REJECTED) != 0;                           \
+        sig_chain_gate *g_ = &(c)->gate;                                             \
+        if (event_) g_->holdoff = (c)->ap.n;                                         \
+        else if (g_->holdoff > 0u) g_->holdoff--;                                    \
+        if (!event_ && !rejected_ && !g_->rejected_prev && g_->holdoff == 0u         \
+            && (c)->motion_run == 0u) {                                              \
+            if (g_->frozen > 0u) g_->frozen--;                                       \
+            (update) = true;                                                         \
+        } else {                                                                     \
+            if (g_->frozen < 2u * SIG_CHAIN_NOISE_FROZEN_MAX) g_->frozen++;          \
+            if (g_->frozen == SIG_CHAIN_NOISE_FROZEN_MAX && (c)->noise.count > 8u)   \
+                (c)->noise.count = 8u;                                               \
+            (update) = g_->frozen >= SIG_CHAIN_NOISE_FROZEN_MAX                      \
+                       || (c)->noise.count < SIG_NOISE_WARMUP;                       \
+        }                                                                            \
+        g_->rejected_prev = rejected_;                                               \
+    } while (0)
 
 static void noise_gate_reset(sig_chain_gate *g)
 {
@@ -101,7 +103,8 @@ static void noise_gate_reset(sig_chain_gate *g)
 /* noise_auto, after the stages: the estimator, then the thresholds; the floor flag */
 static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
 {
-    bool update = noise_gate(&c->gate, &c->noise.count, c->ap.n, c->motion_run, ret);
+    bool update;
+    NOISE_GATE(c, ret, update);
     (void)sig_noise_step_f(&c->noise, x, update);
     set_thresholds_f(c);
     return sig_noise_at_floor_f(&c->noise) ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
@@ -239,10 +242,12 @@ static void set_thresholds_q(sig_chain_q *c)
 
 static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)
 {
-    bool update = noise_gate(&c->gate, &c->noise.count, c->ap.n, c->motion_run, ret);
+    bool update;
+    NOISE_GATE(c, ret, update);
     (void)sig_noise_step_q(&c->noise, x, update);
     set_thresholds_q(c);
-    return sig_noise_at_floor_q(&c->noise) ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
+    /* sig_noise_at_floor_q inline: a call costs the 8051 more than the compare */
+    return c->noise.sigma <= SIG_NOISE_FLOOR_Q7 ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
 }
 
 sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p)

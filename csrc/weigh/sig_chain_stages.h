@@ -26,7 +26,7 @@
  * count: the caller restarts window and Kalman, and the run starts again. */
 SIG_CHAIN_STAGE bool sig_chain_motion(bool moving, uint8_t *run, uint8_t count)
 {
-    *run = sig_run_next(*run, moving);
+    *run = SIG_RUN_NEXT(*run, moving);
     if (*run < count) return false;
     *run = 0u;
     return true;
@@ -39,24 +39,32 @@ SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, bool *tar
                                       sig_real zband, sig_real zrate)
 {
     sig_real dz = xk - *offset;
-    bool tare = *tare_pending;
-    *tare_pending = false;
-    if (!tare && (zband <= SIG_REAL(0.0) || dz > zband || -dz > zband)) return false;
-    if (!tare) dz = dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
-    *offset = tare ? xk : *offset + dz;
-    return tare;
+    if (*tare_pending) {
+        *tare_pending = false;
+        *offset = xk;
+        return true;
+    }
+    if (zband <= SIG_REAL(0.0) || dz > zband || -dz > zband) return false;
+    *offset += dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
+    return false;
 }
 
+/* no subtraction while nothing is pending and tracking is off: the 8051
+ * pays a call for each saturating operation */
 SIG_CHAIN_STAGE bool sig_chain_offset_q(int32_t xk, int32_t *offset, bool *tare_pending,
                                       int32_t zband, int32_t zrate)
 {
-    int32_t dz = sig_sat_sub32(xk, *offset);
-    bool tare = *tare_pending;
-    *tare_pending = false;
-    if (!tare && (zband <= 0 || sig_abs32_sat(dz) > zband)) return false;
-    if (!tare) dz = dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
-    *offset = tare ? xk : sig_sat_add32(*offset, dz);
-    return tare;
+    int32_t dz;
+    if (*tare_pending) {
+        *tare_pending = false;
+        *offset = xk;
+        return true;
+    }
+    if (zband <= 0) return false;
+    dz = sig_sat_sub32(xk, *offset);
+    if (sig_abs32_sat(dz) > zband) return false;
+    *offset = sig_sat_add32(*offset, dz > zrate ? zrate : (dz < -zrate ? -zrate : dz));
+    return false;
 }
 
 #endif /* SIG_CHAIN_STAGES_H */

@@ -29,7 +29,7 @@ static sig_status track_decide(sig_limit_track *t, int8_t side)
     bool outside = side != 0 && t->seeded;
     t->seeded = true;
     if (outside) {
-        t->run = side == t->side ? sig_run_next(t->run, true) : 1u;
+        t->run = side == t->side ? SIG_RUN_NEXT(t->run, true) : 1u;
         t->side = side;
         if (t->lockout_n == 0u || t->run < t->lockout_n) return SIG_WARN_REJECTED;
     }

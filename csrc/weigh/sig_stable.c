@@ -24,7 +24,7 @@ sig_status sig_stable_step_f(sig_stable_f *s, sig_real x, bool *stable)
     if (!s || !stable) return SIG_ERR_ARG;
     if (!sig_real_isfinite(x)) return SIG_ERR_NONFINITE;
     d = x - s->prev;
-    s->run = sig_run_next(s->run, s->has_prev && d <= s->step && -d <= s->step);
+    s->run = SIG_RUN_NEXT(s->run, s->has_prev && d <= s->step && -d <= s->step);
     s->prev = x;
     s->has_prev = true;
     *stable = s->run >= s->count;
@@ -51,7 +51,7 @@ sig_status sig_stable_reset_q(sig_stable_q *s)
 sig_status sig_stable_step_q(sig_stable_q *s, int32_t x_q7, bool *stable)
 {
     if (!s || !stable) return SIG_ERR_ARG;
-    s->run = sig_run_next(s->run, s->has_prev && sig_abs32_sat(sig_sat_sub32(x_q7, s->prev)) <= s->step);
+    s->run = SIG_RUN_NEXT(s->run, s->has_prev && sig_abs32_sat(sig_sat_sub32(x_q7, s->prev)) <= s->step);
     s->prev = x_q7;
     s->has_prev = true;
     *stable = s->run >= s->count;
