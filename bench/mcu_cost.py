@@ -104,8 +104,8 @@ def print_table1(t1, a):
     print("fixed = sig_tcomp (int32 coefficients, Q15 abscissa); fixed16 = sig_tcomp16 (int16 "
           "multiplicands, 16x16 multiply-accumulates; compact_error_lsb: its measured quantisation "
           "error over every 0.01 degC of the range, on top of the 0.5 LSB output rounding); "
-          "fixed16_inline = the same C with the csrc/sig_port.h hooks of "
-          "bench/mcu/msp430/sig_port_msp430.h (MAC/MACS on the multiplier, no helper calls; "
+          "fixed16_inline = the same C with the csrc/include/sig_port.h hooks of "
+          "csrc/port/msp430/sig_port_msp430.h (MAC/MACS on the multiplier, no helper calls; "
           "assumes no ISR uses the multiplier)")
     print("ops model per call (fixed | fixed16 | fixed16_inline | float):")
     for order in _orders(a.orders):

@@ -1,4 +1,4 @@
-"""Training (pysig/fit.py, pysig/model.py) and the CLI round trip
+"""Training (pysig/tcomp/fit.py, pysig/tcomp/model.py) and the CLI round trip
 fit -> export -> C evaluation (image parsed in C) -> same numbers as Python."""
 import json
 import subprocess

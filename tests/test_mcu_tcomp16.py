@@ -5,7 +5,7 @@ are csrc/port/msp430/sig_port_msp430.h, MAC/MACS on that multiplier; the
 no-multiplier build) and for the 8051 (sdcc --model-large), runs 50
 temperature/reading pairs in the simulators; the
 outputs and statuses read back must equal the host C (Cython) and the Python
-spec bit for bit.  Vectors: bench/mcu/tcomp16_vectors.py (the int32 rows'
+spec bit for bit.  Vectors: pysig/mcu/tcomp16_vectors.py (the int32 rows'
 cases of bench/mcu_cost.py, quantised to the compact form)."""
 import struct
 

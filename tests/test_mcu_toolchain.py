@@ -1,4 +1,4 @@
-"""The MCU pipeline itself (bench/mcu/runner.py): both toolchains build the
+"""The MCU pipeline itself (pysig/mcu/runner.py): both toolchains build the
 recipe's reference functions with warnings as errors, the simulators run them,
 and the results read back equal a host computation bit for bit.  A missing
 hardware multiplier, a wrong MPY_BASE, a missing .data copy or a wrong s51 CPU

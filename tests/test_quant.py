@@ -1,4 +1,4 @@
-"""Automatic fixed-point formats (pysig/quant.py): the fixed-point correction
+"""Automatic fixed-point formats (pysig/tcomp/quant.py): the fixed-point correction
 stays within 0.5 LSB of float64 over the whole calibrated range and the whole
 int16 reading range, and the stated bound is honest."""
 import numpy as np

@@ -16,7 +16,7 @@
  *
  * Units: every reading-like value (x, contributions, outputs) is an int32 in
  * one caller-chosen fixed unit (LSB, counts, or Q16.16 LSB: whatever the
- * exporter picked, see pysig/effects_device.py); coefficients carry that
+ * exporter picked, see pysig/refine/device.py); coefficients carry that
  * unit.  Temperatures are int16 0.01 °C as in sig_tcomp.h.
  *
  * Fixed-point arithmetic: 32-bit only (no int64), every product through

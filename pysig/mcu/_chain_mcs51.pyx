@@ -59,7 +59,7 @@ def gain_table(q_q30, p0_q16, max_len=GAINS_MAX):
 
 cdef class ChainMcs51:
     """One 8051-form chain from sig_chain_params_q fields (the dict of
-    pysig.reference.chain.chain_fixed_params)."""
+    pysig.weigh.presets.chain_fixed_params)."""
     cdef sig_chain_params_q p
     cdef readonly cnp.ndarray gains
 

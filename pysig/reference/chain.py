@@ -344,7 +344,7 @@ class StabilityDetector:
 
 
 
-# ---- the noise estimator (csrc/sig_noise.c) ---------------------------------
+# ---- the noise estimator (csrc/weigh/sig_noise.c) ---------------------------------
 NOISE_FLOOR_Q7 = 32               # a quarter of one code, Q24.7
 NOISE_MAX_Q7 = 1 << 27            # 2^20 codes: 6 x this still fits int32
 NOISE_FLOOR_REL = 2.0 ** -24      # float floor: this fraction of |sample| ...

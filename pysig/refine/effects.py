@@ -19,8 +19,9 @@ found by a 1-D search (a log grid, then scipy.optimize.minimize_scalar on
 the full data).
 
 The on-device forms of the state (lag IIR, play operator) are in
-csrc/sig_effects.{h,c}; pysig/reference/effects.py is their fixed-point
-spec.  The float forms here are what the fit uses."""
+csrc/include/sig_effects.h and csrc/refine/sig_effects.c;
+pysig/reference/effects.py is their fixed-point spec.  The float forms
+here are what the fit uses."""
 from dataclasses import dataclass, field
 
 import numpy as np

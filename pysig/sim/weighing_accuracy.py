@@ -30,7 +30,7 @@ Setup (every figure is a median and a worst case over --seeds seeds):
   package default Chain(preset="recommended") as shipped, given the sensor's
   noise R (the variance of one reading, measured on a still record at the
   heaviest load, pysig.weigh.scale.noise_sigma): their A0 / motion band are
-  derived from R ("auto", pysig.reference.chain.PRESETS);
+  derived from R ("auto", pysig.weigh.presets.PRESETS);
   "recommended_hx711_R": the default left with the R of the HX711 recording
   it was tuned on (24x below this simulator's noise: what happens when R is
   not the sensor's); chain_fixed / adaptive_fixed: the same chains in the

@@ -1,6 +1,6 @@
 """The table family of temperature models: per axis a piecewise-linear
 table delta(T) = f(T) - f(T0) on uniform knots shared by the axes, in the
-fixed-point form of csrc/sig_pwl.h (evaluated on the device by sig_tmodel),
+fixed-point form of csrc/include/sig_pwl.h (evaluated on the device by sig_tmodel),
 with the float twin it was quantised from.
 
 Knots sit where the C puts them: knot k at t_lo + k * 2^32 / recip in the

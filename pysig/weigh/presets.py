@@ -240,7 +240,7 @@ def chain_fixed_params(p):
 
 
 
-# ---- thresholds from the measured noise (csrc/sig_noise.h, sig_chain.h) -----
+# ---- thresholds from the measured noise (csrc/include/sig_noise.h, sig_chain.h) -----
 NOISE_FLOOR_Q7 = 32               # a quarter of one code, Q24.7
 NOISE_FLOOR_ABS = 1e-30           # float floor (never below this)
 

@@ -1,4 +1,4 @@
-/* chain_harness.c - runs csrc/sig_chain (limit -> anti-pulse -> Kalman ->
+/* chain_harness.c - runs sig_chain (csrc/weigh/, limit -> anti-pulse -> Kalman ->
  * stability) on the target.
  *
  * main() initialises the chain from the generated chain_vectors.h, runs the

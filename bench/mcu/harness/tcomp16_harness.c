@@ -1,4 +1,4 @@
-/* tcomp16_harness.c - runs csrc/sig_tcomp16 (the compact compensation) on
+/* tcomp16_harness.c - runs sig_tcomp16 (csrc/tcomp/, the compact compensation) on
  * the target, like tcomp_harness.c: main() initialises the model from the
  * generated tcomp16_vectors.h, makes ONE direct call of sig_tcomp16_apply_q
  * (the runner counts it from entry to return), then runs the batch of test

@@ -1,4 +1,4 @@
-/* tcomp_harness.c - runs csrc/sig_tcomp on the target.
+/* tcomp_harness.c - runs sig_tcomp (csrc/tcomp/) on the target.
  *
  * main() initialises the model from the generated tcomp_vectors.h, makes ONE
  * call of the compensation (the first direct call in main: the runner counts

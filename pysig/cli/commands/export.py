@@ -3,7 +3,7 @@
 json: the model, checked and rewritten.  c: a C header with const arrays
 and the arguments of sig_tcomp_init_q / sig_tcomp_init_f (a polynomial) or
 sig_pwl_init_q16 (a table).  image: the
-coefficient image for non-volatile memory (csrc/sig_image.h), with the given
+coefficient image for non-volatile memory (csrc/include/sig_image.h), with the given
 sequence number, which sig_tmodel_load_image reads whatever the family: a
 table's section (sig_pwl.h), the int32 offset section (sig_tcomp_load_image), or with
 --compact the compact section (sig_tcomp16_load_image: int16 multiplicands,
