@@ -1,8 +1,12 @@
 """Build the Cython extensions.  The C99 core (csrc/<area>/*.c, the same
-sources the firmware uses) is compiled once into a static library, sigcore,
-which every extension (pysig/<area>/_*.pyx) links."""
+sources the firmware uses) is built once, by the project's CMakeLists.txt,
+as the static library sigcore that every extension (pysig/<area>/_*.pyx)
+links: which sources make the core, its C standard and its warnings are
+stated there and nowhere else."""
 import glob
 import os
+import shutil
+import subprocess
 
 import numpy
 from Cython.Build import cythonize
@@ -11,32 +15,73 @@ from setuptools.command.build_ext import build_ext
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CSRC_INCLUDE = os.path.join("csrc", "include")
-CORE_SOURCES = sorted(os.path.relpath(p, HERE) for p in glob.glob(os.path.join(HERE, "csrc", "*", "*.c")))
+PUBLIC_HEADERS = sorted(os.path.relpath(p, HERE) for p in glob.glob(os.path.join(HERE, CSRC_INCLUDE, "*.h")))
 # The host build carries the float path as double so numpy float64 flows
-# through unconverted; firmware builds use float (sig_types.h).
-CORE_MACROS = [("SIG_REAL_DOUBLE", "1")]
+# through unconverted; firmware builds use float (sig_types.h).  The
+# extensions must see the same sig_real as the library they link.
+REAL_MACROS = [("SIG_REAL_DOUBLE", "1")]
 CFLAGS = ["-O2", "-std=c99", "-fPIC"]
+CORE_CMAKE_OPTIONS = [
+    "-DCMAKE_BUILD_TYPE=Release",
+    "-DCMAKE_C_FLAGS_RELEASE=-O2",             # the optimisation the extensions use
+    "-DCMAKE_POSITION_INDEPENDENT_CODE=ON",    # linked into shared extension modules
+    "-DSIG_REAL_DOUBLE=ON",
+    "-DSIG_BUILD_TESTS=OFF",
+    "-DSIG_BUILD_FUZZ=OFF",
+    # A new compiler's new warning must not stop a user's install; the
+    # warning-free build with -Werror is checked by tests/test_cmake.py.
+    "-DSIG_WERROR=OFF",
+]
 
-# Every header is an input of every core object: a header edit rebuilds the core.
-CORE_HEADERS = sorted(os.path.relpath(p, HERE) for p in glob.glob(os.path.join(HERE, "csrc", "**", "*.h"),
-                                                                 recursive=True))
-sigcore = ("sigcore", {"sources": CORE_SOURCES, "include_dirs": [CSRC_INCLUDE],
-                       "macros": CORE_MACROS, "cflags": CFLAGS, "obj_deps": {"": CORE_HEADERS}})
+
+def find_tool(name):
+    """A build tool on PATH, else the binary inside its PyPI wheel (the
+    `cmake` and `ninja` packages the isolated build environment installs)."""
+    path = shutil.which(name)
+    if path:
+        return path
+    try:
+        module = __import__(name)
+    except ImportError:
+        return None
+    bin_dir = getattr(module, "CMAKE_BIN_DIR", None) or getattr(module, "BIN_DIR", None)
+    path = bin_dir and os.path.join(bin_dir, name)
+    return path if path and os.path.exists(path) else None
 
 
 class build_ext_with_core(build_ext):
-    """build_ext that builds the sigcore library first (plain build_ext,
-    as run by `build_ext --inplace` and editable installs, does not)."""
+    """build_ext that first builds sigcore with CMake (the same build a
+    firmware project uses) and links every extension against it."""
 
     def run(self):
-        self.run_command("build_clib")
-        # An extension must relink when the core changes, not only when its
-        # own .pyx does: the static library is one of its inputs.
-        clib = self.get_finalized_command("build_clib")
-        core = clib.compiler.library_filename("sigcore", output_dir=clib.build_clib)
+        library = self.build_core()
         for ext in self.extensions:
-            ext.depends = [*ext.depends, core]
+            ext.library_dirs = [*ext.library_dirs, os.path.dirname(library)]
+            # An extension must rebuild when the core or a header it
+            # compiles against changes (struct layouts), not only when its
+            # own .pyx does.
+            ext.depends = [*ext.depends, library, *PUBLIC_HEADERS]
         super().run()
+
+    def build_core(self):
+        cmake = find_tool("cmake")
+        if cmake is None:
+            raise RuntimeError("building pysig needs CMake >= 3.16 for its C core: "
+                               "`python3 -m pip install cmake`, or your system's cmake package")
+        build_dir = os.path.abspath(os.path.join(self.build_temp, "sigcore"))
+        lib_dir = os.path.join(build_dir, "lib")
+        configure = [cmake, "-S", HERE, "-B", build_dir, f"-DCMAKE_ARCHIVE_OUTPUT_DIRECTORY={lib_dir}",
+                     *CORE_CMAKE_OPTIONS]
+        ninja = find_tool("ninja")
+        # The generator is chosen once per build directory (CMake refuses a change).
+        if ninja and not os.path.exists(os.path.join(build_dir, "CMakeCache.txt")):
+            configure += ["-G", "Ninja", f"-DCMAKE_MAKE_PROGRAM={ninja}"]
+        subprocess.run(configure, check=True)
+        subprocess.run([cmake, "--build", build_dir, "--parallel"], check=True)
+        library = os.path.join(lib_dir, "libsigcore.a")
+        if not os.path.exists(library):
+            raise RuntimeError(f"CMake built no {library}")
+        return library
 
 
 def module_name(pyx):
@@ -49,12 +94,12 @@ extensions = [
         sources=[os.path.relpath(pyx, HERE)],
         include_dirs=[CSRC_INCLUDE, numpy.get_include()],
         libraries=["sigcore"],
-        define_macros=CORE_MACROS + [("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],
+        define_macros=REAL_MACROS + [("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],
         extra_compile_args=CFLAGS,
     )
     for pyx in sorted(glob.glob(os.path.join(HERE, "pysig", "**", "_*.pyx"), recursive=True))
 ]
 
-setup(libraries=[sigcore], cmdclass={"build_ext": build_ext_with_core},
+setup(cmdclass={"build_ext": build_ext_with_core},
       ext_modules=cythonize(extensions, language_level=3,
                             compiler_directives={"boundscheck": False, "wraparound": False}))

@@ -7,7 +7,7 @@ process, timed from its start to its exit, peak memory the process's own
 VmHWM (peak resident set, read from /proc/self/status as it exits):
 
 * floor: pyarrow.csv.read_csv of the file (counts as float64), the chain
-  (pysig.weigh.Chain, the C core) over the counts column, pyarrow.csv.write_csv
+  (pysig.weigh.chain.Chain, the C core) over the counts column, pyarrow.csv.write_csv
   of the input columns plus `filtered` and `stable`, numpy and arrow
   exchanging buffers (pyarrow's pa.array/to_numpy would import pandas): what
   the job costs with nothing of pysig's checks or streaming;
