@@ -14,7 +14,13 @@ __all__ = ["Status", "Warn", "describe"]
 
 
 class Status(IntEnum):
-    """Success and error codes (``SIG_OK``, ``SIG_ERR_*``)."""
+    """Success and error codes (``SIG_OK``, ``SIG_ERR_*``).
+
+    Examples
+    --------
+    >>> Status(-4).name
+    'ERR_CRC'
+    """
 
     OK = 0
     ERR_ARG = -1
@@ -26,7 +32,16 @@ class Status(IntEnum):
 
 
 class Warn(IntFlag):
-    """Warning bits (``SIG_WARN_*`` and the stage-specific flags)."""
+    """Warning bits (``SIG_WARN_*`` and the stage-specific flags); a
+    status may carry several.
+
+    Examples
+    --------
+    >>> Warn.WARN_REJECTED in Warn(36)
+    True
+    >>> Warn.CHAIN_MOTION in Warn(36)
+    True
+    """
 
     WARN_CLAMPED = 1
     WARN_SATURATED = 2

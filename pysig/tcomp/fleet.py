@@ -267,6 +267,25 @@ def fit_fleet(dev, temp, values, devices, axes, model="auto", t0=25.0, max_order
     Returns
     -------
     FleetFit
+        Per device: ``ok``, ``reason`` (why a device was not fitted),
+        ``order``, the delta polynomial ``coef`` and its fixed-point form,
+        ``cv_rms``, ``rms``, ``drift``.
+
+    Examples
+    --------
+    Two devices, four chamber temperatures, one axis; the second device
+    drifts twice as fast:
+
+    >>> import numpy as np
+    >>> temps = np.array([0.0, 25.0, 50.0, 70.0])
+    >>> dev = np.repeat([0, 1], 4 * 10)
+    >>> temp = np.tile(np.repeat(temps, 10), 2)
+    >>> x = np.where(dev == 0, 1.0, 2.0) * 0.02 * (temp - 25.0) ** 2
+    >>> r = fit_fleet(dev, temp, x[:, None], ["A1", "B2"], ["x"], model=2)
+    >>> r.ok.tolist(), r.order.tolist()
+    ([True, True], [2, 2])
+    >>> np.round(r.drift[:, 0] / r.drift[0, 0], 6).tolist()
+    [1.0, 2.0]
     """
     dev = np.asarray(dev, dtype=np.int64)
     temp = np.asarray(temp, dtype=float)

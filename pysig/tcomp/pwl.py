@@ -228,11 +228,45 @@ def _solve(temp, y, knots, bridge, what):
 
 
 def fit_pwl(temp, y, n_knots, lo=None, hi=None, bridge=False, what="pwl fit"):
-    """Least-squares table of `n_knots` uniform knots on [lo, hi] (°C,
-    default: the data's range).  Raises RangeError for fewer than 2 or more
-    than 255 knots or a range outside the data, InsufficientDataError when a
-    knot has no data near it (unless `bridge`, which makes the table linear
-    across data gaps, as cross-validation needs)."""
+    """Least-squares table of values at uniform knots (linear between
+    knots, flat outside), the float form of ``sig_pwl``.
+
+    Parameters
+    ----------
+    temp, y : array_like
+        Temperatures (°C) and readings, the same length.
+    n_knots : int
+        2..255 uniform knots.
+    lo, hi : float, optional
+        The table's range, °C (default: the data's range); inside the data.
+    bridge : bool, optional
+        Make the table linear across knots with no data near them (as
+        cross-validation needs) instead of refusing.
+    what : str, optional
+        The command named in error messages.
+
+    Returns
+    -------
+    PwlFit
+        ``knots``, ``values``, ``t_hi`` and the in-sample residual ``rms``.
+
+    Raises
+    ------
+    RangeError
+        Fewer than 2 or more than 255 knots, or a range outside the data.
+    InsufficientDataError
+        A knot with no data near it (unless `bridge`).
+    NonFiniteError
+        A non-finite temperature or reading.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0.0, 60.0, 61)
+    >>> f = fit_pwl(t, np.abs(t - 30.0), 3)
+    >>> f.knots.tolist(), np.allclose(f.values, [30.0, 0.0, 30.0]), f.rms < 1e-9
+    ([0.0, 30.0, 60.0], True, True)
+    """
     temp, y = _check_data(temp, y, what)
     _check_n_knots(n_knots, what)
     lo, hi = _check_range(temp, lo, hi, what)

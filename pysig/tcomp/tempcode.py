@@ -41,6 +41,15 @@ class TempCode:
         CODE_INT16 or CODE_UINT16 (raw codes only; °C is always CODE_INT16).
     scale, offset : float or None
         Raw codes only, for printing: °C = code * scale + offset.
+
+    Examples
+    --------
+    >>> CELSIUS.to_t([25.0, -40.125]).tolist()         # 0.01 °C, half to even
+    [2500, -4012]
+    >>> TempCode(unit="raw", code_kind=CODE_UINT16).to_t([0, 40000, 65535]).tolist()
+    [-32768, 7232, 32767]
+    >>> CELSIUS.to_t([400.0], out_of_range="saturate").tolist()
+    [32767]
     """
     unit: str = "c"
     code_kind: int = CODE_INT16

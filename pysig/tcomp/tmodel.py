@@ -1,7 +1,8 @@
 """Temperature models of either family, end to end: fit with the family and
 size chosen from the data (`fit_model`), load (`load`), the NVM image
-(`image_bytes`) and the firmware's evaluation through its own C loader
-(`apply_fixed`, `apply_image`).
+(`image_bytes`), and correction (`apply`: the float64 model, or the
+firmware's evaluation through its own C loader, `apply_fixed`, which is
+`apply_image` on the model's image).
 
 A model is a pysig.tcomp.model.TcompModel (family "poly") or a
 pysig.tcomp.table_model.TableModel (family "table"); both carry their
@@ -16,7 +17,7 @@ from . import model as poly_model
 from . import table_model
 from .tempcode import CELSIUS, CODE_UINT16, TempCode
 from ..io import read_json
-from ..errors import InputFileError, InsufficientDataError, ModelFileError, RangeError
+from ..errors import InputFileError, InsufficientDataError, ModelFileError, NonFiniteError, RangeError
 from ..store.image import (SECTION_COMPACT_POLY, SECTION_OFFSET_POLY, SECTION_PWL_TABLE, SECTION_TEMP_CODE,
                            TCODE_INT16, TCODE_UINT16, build_image, compact_poly_payload,
                            offset_poly_payload, temp_code_payload)
@@ -304,7 +305,35 @@ def _fitting_alternative(refused, cands, prep, groups, t0, temp_code, temp_colum
 # ---- files, images, firmware evaluation ----------------------------------------
 
 def load(path):
-    """A model file of either family (checksum verified); ModelFileError otherwise."""
+    """Read a model file of either family, its checksum verified.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A JSON model written by ``pysig fit`` (or ``FitResult.model.save``).
+
+    Returns
+    -------
+    TcompModel or TableModel
+        ``family`` is ``"poly"`` or ``"table"``.
+
+    Raises
+    ------
+    InputFileError
+        The file cannot be read.
+    ModelFileError
+        Not a pysig model, a version this release does not read, no
+        checksum, or a checksum that does not match (corrupt or edited).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.repeat([0.0, 25.0, 50.0, 70.0], 20)
+    >>> m = fit_model(t, {"x": 0.02 * (t - 25.0) ** 2}, spec="poly:2").model
+    >>> m.save("model.json")
+    >>> load("model.json").family
+    'poly'
+    """
     d = read_json(path, "JSON model file")
     if isinstance(d, dict) and d.get("family") == "table":
         _verify(d, path)
@@ -332,9 +361,39 @@ def _code_section(model):
 
 
 def image_bytes(model, sequence=1, compact=False, what="export"):
-    """The NVM image of a model: its family's section, plus the
-    temperature-code section for raw codes.  RangeError when `compact` is
-    asked of a table or of a polynomial that does not fit the compact form."""
+    """The non-volatile-memory image of a model, as the firmware loads it.
+
+    Parameters
+    ----------
+    model : TcompModel or TableModel
+    sequence : int, optional
+        The image's sequence number: of two valid flash slots the firmware
+        takes the newer.
+    compact : bool, optional
+        A polynomial in the compact 16-bit form (``sig_tcomp16``).
+    what : str, optional
+        The command named in error messages.
+
+    Returns
+    -------
+    bytes
+        Header, the family's section, and for raw temperature codes the
+        temperature-code section; CRC-protected (``sig_image.h``).
+
+    Raises
+    ------
+    RangeError
+        `compact` asked of a table, or of a polynomial that does not fit the
+        compact form within its error bound.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.repeat([0.0, 25.0, 50.0, 70.0], 20)
+    >>> m = fit_model(t, {"x": 0.02 * (t - 25.0) ** 2}, spec="poly:2").model
+    >>> image_bytes(m)[:4]
+    b'psig'
+    """
     if model.family == "table":
         if compact:
             raise RangeError(f"{what}: --compact applies to polynomial models, this one is a table")
@@ -362,9 +421,53 @@ def readings_code(readings, value_scale, what="apply"):
 
 
 def apply_image(data, temp, readings, temp_code, value_scale=1.0, where="image"):
-    """Readings corrected by the firmware's C code (sig_tmodel_load_image +
-    sig_tmodel_apply) on image bytes: (list of corrected arrays in the
-    column's unit, clamped flags)."""
+    """Correct readings with the firmware's own C code on image bytes
+    (``sig_tmodel_load_image`` + ``sig_tmodel_apply``), whatever model
+    family the image holds.
+
+    Parameters
+    ----------
+    data : bytes
+        A coefficient image (`image_bytes`, ``pysig export --format image``).
+    temp : array_like
+        Temperatures: °C, or the sensor's integer codes when
+        ``temp_code.unit == "raw"``.
+    readings : list of array_like
+        One array per axis, in the column's unit.
+    temp_code : TempCode
+        What `temp` holds (the image names no columns and no units).
+    value_scale : float, optional
+        The firmware's int16 reading is ``value * value_scale``.
+    where : str, optional
+        Where the image came from, for error messages.
+
+    Returns
+    -------
+    corrected : list of ndarray
+        Per axis, in the column's unit.
+    clamped : ndarray of bool
+        Where the temperature was outside the calibrated range and was
+        clamped to it.
+
+    Raises
+    ------
+    ModelFileError
+        The C loader refuses the image (CRC, length, version, section).
+    InputFileError
+        The number of reading arrays is not the image's number of axes.
+    RangeError
+        Readings that are not int16 after `value_scale`; raw codes that are
+        not integers in -32768..65535.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.repeat([0.0, 25.0, 50.0, 70.0], 20)
+    >>> m = fit_model(t, {"x": 100.0 + 0.04 * (t - 25.0) ** 2}, spec="poly:2").model
+    >>> out, clamped = apply_image(image_bytes(m), [0.0, 25.0, 90.0], [[125, 100, 181]], CELSIUS)
+    >>> out[0].tolist(), clamped.tolist()        # 90 °C is corrected as 70 °C, the range's end
+    ([100, 100, 100], [False, False, True])
+    """
     from ._tmodel import TModel
     c = TModel.from_image(data, where=where)
     if c.n_axes != len(readings):
@@ -382,12 +485,65 @@ def apply_image(data, temp, readings, temp_code, value_scale=1.0, where="image")
 
 
 def apply_fixed(model, temp, readings):
-    """The firmware's path for a model: its image through the C loader."""
+    """The firmware's path for a model: its image through the C loader
+    (`apply_image` on ``image_bytes(model)``, with the model's temperature
+    code and value scale).  Same returns and errors as `apply_image`."""
     return apply_image(image_bytes(model), temp, readings, model.temp_code, model.value_scale)
 
 
 def apply_float(model, temp, readings):
-    """Float model on readings in the column's unit: (corrected, clamped)."""
+    """The float64 model on readings in the column's unit: the same
+    returns as `apply_image`.  NonFiniteError for a non-finite temperature."""
+    temp = np.asarray(temp, dtype=float)
+    bad = np.flatnonzero(~np.isfinite(temp))
+    if bad.size:
+        raise NonFiniteError(f"apply: temperature: non-finite value at index {int(bad[0])}")
     s = model.value_scale
     out = model.apply_float(temp, [np.asarray(r, dtype=float) * s for r in readings])
     return [o / s for o in out], model.clamped(temp)
+
+
+def apply(model, temp, readings, fixed=False):
+    """Correct readings with a fitted model: Δ = f(T) − f(T0) removed.
+
+    Parameters
+    ----------
+    model : TcompModel or TableModel
+        From `fit_model` or `load`.
+    temp : array_like
+        Temperatures in the model's temperature code (°C or raw codes).
+    readings : list of array_like
+        One array per model axis, in the column's unit.
+    fixed : bool, optional
+        Run the firmware's fixed-point C code on the model's image (the
+        bits the device produces) instead of the float64 model.
+
+    Returns
+    -------
+    corrected : list of ndarray
+        Per axis.
+    clamped : ndarray of bool
+        Where the temperature was outside the calibrated range (clamped).
+
+    Raises
+    ------
+    NonFiniteError
+        A non-finite temperature (float path).
+    RangeError
+        Readings the fixed-point path cannot take (not int16 after the
+        model's value scale).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.repeat([0.0, 25.0, 50.0, 70.0], 20)
+    >>> m = fit_model(t, {"x": 100.0 + 0.04 * (t - 25.0) ** 2}, spec="poly:2").model
+    >>> corrected, clamped = apply(m, [0.0, 50.0], [[125.0, 125.0]])
+    >>> np.round(corrected[0], 6).tolist(), clamped.tolist()
+    ([100.0, 100.0], [False, False])
+    >>> apply(m, [0.0, 50.0], [[125, 125]], fixed=True)[0][0].tolist()
+    [100, 100]
+    """
+    if fixed:
+        return apply_fixed(model, temp, readings)
+    return apply_float(model, temp, readings)

@@ -36,18 +36,6 @@ def register(sub):
     p.set_defaults(func=run)
 
 
-def compensate(model, temp, readings, fixed=False):
-    """(list of corrected arrays, clamped flags) for readings per axis."""
-    if fixed:
-        return tmodel.apply_fixed(model, temp, readings)
-    temp = np.asarray(temp, dtype=float)
-    bad = np.flatnonzero(~np.isfinite(temp))
-    if bad.size:
-        from ...errors import NonFiniteError
-        raise NonFiniteError(f"apply: temperature: non-finite value at index {int(bad[0])}")
-    return tmodel.apply_float(model, temp, readings)
-
-
 def is_image(path):
     try:
         with open(path, "rb") as fh:
@@ -90,7 +78,7 @@ def run(args):
                                                 args.value_scale or 1.0, where=args.model)
         how = f"the C loader ({c.family} model, {c.code_kind} temperature code)"
     else:
-        corrected, clamped = compensate(model, data[temp_col], readings, fixed=args.fixed)
+        corrected, clamped = tmodel.apply(model, data[temp_col], readings, fixed=args.fixed)
         how = f"{model.family} model, {'fixed-point C' if args.fixed else 'float64'}"
     out = dict(data)
     for name, values in zip(axes, corrected):
