@@ -18,14 +18,16 @@ CSRC_INCLUDE = os.path.join("csrc", "include")
 PUBLIC_HEADERS = sorted(os.path.relpath(p, HERE) for p in glob.glob(os.path.join(HERE, CSRC_INCLUDE, "*.h")))
 # The host build carries the float path as double so numpy float64 flows
 # through unconverted; firmware builds use float (sig_types.h).  The
-# extensions must see the same sig_real as the library they link.
-REAL_MACROS = [("SIG_REAL_DOUBLE", "1")]
+# extensions must see the same sig_real as the library they link, so both
+# take it from here.
+REAL_DOUBLE = True
+REAL_MACROS = [("SIG_REAL_DOUBLE", "1")] if REAL_DOUBLE else []
 CFLAGS = ["-O2", "-std=c99", "-fPIC"]
 CORE_CMAKE_OPTIONS = [
     "-DCMAKE_BUILD_TYPE=Release",
     "-DCMAKE_C_FLAGS_RELEASE=-O2",             # the optimisation the extensions use
     "-DCMAKE_POSITION_INDEPENDENT_CODE=ON",    # linked into shared extension modules
-    "-DSIG_REAL_DOUBLE=ON",
+    f"-DSIG_REAL_DOUBLE={'ON' if REAL_DOUBLE else 'OFF'}",
     "-DSIG_BUILD_TESTS=OFF",
     "-DSIG_BUILD_FUZZ=OFF",
     # A new compiler's new warning must not stop a user's install; the
