@@ -63,6 +63,8 @@ def code_closure(img: Image, func: str) -> dict:
     from the disassembly; 8051 from the .rst listings (_mcs51_code_closure)."""
     if img.target == "mcs51":
         return _mcs51_code_closure(img, func)
+    if img.target == "avr":
+        return _avr_code_closure(img, func)
     dis = run_tool([tool("llvm-objdump-14", "llvm-objdump"), "-d", img.path])
     by_addr = {a: n for n, a in img.symbols.items() if img.sizes.get(n, 0) > 0}
     calls, cur = {}, None
@@ -81,6 +83,37 @@ def code_closure(img: Image, func: str) -> dict:
         if f in seen:
             continue
         seen[f] = img.sizes.get(f, 0)
+        todo.extend(calls.get(f, ()))
+    return seen
+
+
+def _avr_code_closure(img: Image, func: str) -> dict:
+    """AVR: from avr-objdump's disassembly, following call/rcall/jmp/rjmp
+    to the start of another label; a label's size is the distance to the
+    next one (libgcc's and avr-libc's assembly helpers carry no ELF size)."""
+    dis = run_tool([tool("avr-objdump"), "-d", "-j", ".text", img.path])
+    labels, calls, cur = [], {}, None
+    for line in dis.splitlines():
+        m = re.match(r"^([0-9a-f]+) <([^>]+)>:", line)
+        if m:
+            cur = m.group(2)
+            labels.append((int(m.group(1), 16), cur))
+            calls.setdefault(cur, set())
+            continue
+        m = re.search(r"\t(?:r?call|r?jmp)\t.*; 0x[0-9a-f]+ <([^>+]+)>\s*$", line)
+        if m and cur and m.group(1) != cur:
+            calls[cur].add(m.group(1))
+        m = re.match(r"^\s+([0-9a-f]+):", line)
+        if m:
+            end = int(m.group(1), 16)
+    size = {n: (labels[i + 1][0] if i + 1 < len(labels) else end + 2) - a
+            for i, (a, n) in enumerate(labels)}
+    seen, todo = {}, [func]
+    while todo:
+        f = todo.pop()
+        if f in seen or f not in size:
+            continue
+        seen[f] = size[f]
         todo.extend(calls.get(f, ()))
     return seen
 
