@@ -15,9 +15,9 @@ load).  Every configuration runs on every cell:
   recommended      Chain("recommended"): yesterday's default, as a new user
                    runs it (thresholds from a fixed R tuned on HX711 counts)
   paper            Chain("paper"): the weighing paper's parameters (kg)
-  hx711_adc        olkal/HX711_ADC: moving average of 16 samples without
-                   their highest and lowest (SAMPLES 16, IGN_HIGH_SAMPLE and
-                   IGN_LOW_SAMPLE 1)
+  hx711_adc        olkal/HX711_ADC: the last 18 samples without their
+                   highest and lowest, / 16 (SAMPLES 16, IGN_HIGH_SAMPLE and
+                   IGN_LOW_SAMPLE 1: an 18-sample set, >> 4)
   median7          RobTillaart/HX711 read_median(7), as a running median
   medavg7          RobTillaart/HX711 read_medavg(7): mean of the middle of
                    the 7 sorted samples (indices (7+2)//4 .. 7-(7+2)//4-1)
@@ -63,6 +63,7 @@ from pysig.io import atomic_output
 from pysig.weigh import _recording as recording
 from pysig.weigh import Chain
 from pysig.weigh._calibration import settle_index
+from lab.studies.hx711_peers import PEERS
 
 HERE = Path(__file__).resolve().parent
 SHARED = HERE.parent.parent / "shared" / "data" / "hx711_steps_10hz" / "hx711_steps_10hz.csv"
@@ -81,38 +82,7 @@ TOL_REL, TOL_SETTLE_S, TOL_ABS = 0.10, 0.1, 0.05
 SETTLED_FROM = 30                # samples after a change from which glitch excursions count (3 s)
 
 
-# ---- the peers: short, each as its library does it ----------------------------------
-def _windows(x, n):
-    """Sliding windows of the last n samples (the first ones: what is there)."""
-    pad = np.concatenate([np.full(n - 1, x[0]), x])
-    return np.lib.stride_tricks.sliding_window_view(pad, n)
-
-
-def hx711_adc(x):
-    """olkal/HX711_ADC smoothing: the sum of the last 16 samples minus the
-    largest and the smallest, over 14 (SAMPLES 16, IGN_HIGH/LOW_SAMPLE 1)."""
-    w = _windows(x, 16)
-    return (w.sum(axis=1) - w.max(axis=1) - w.min(axis=1)) / 14.0
-
-
-def median7(x):
-    """RobTillaart/HX711 read_median(7): the median of the last 7 samples."""
-    return np.median(_windows(x, 7), axis=1)
-
-
-def medavg7(x):
-    """RobTillaart/HX711 read_medavg(7): sort 7 samples, average indices
-    first = (7 + 2) // 4 .. 7 - first - 1 (the middle of the sorted run)."""
-    w = np.sort(_windows(x, 7), axis=1)
-    first = (7 + 2) // 4
-    return w[:, first:7 - first].mean(axis=1)
-
-
-def average10(x):
-    """bogde/HX711 read_average(10): the mean of the last 10 samples."""
-    return _windows(x, 10).mean(axis=1)
-
-
+# ---- the peers: lab.studies.hx711_peers (each as its library does it) and one more ----
 def simple_kalman(x, e_mea, q):
     """denyssene/SimpleKalmanFilter updateEstimate() with e_est = e_mea."""
     out = np.empty(x.size)
@@ -142,8 +112,7 @@ def run_config(config, x, sigma):
         return Chain("paper").process(x)[0], None
     if config == "simple_kalman":
         return simple_kalman(x, sigma, 0.005 * sigma), None
-    return {"hx711_adc": hx711_adc, "median7": median7, "medavg7": medavg7,
-            "average10": average10}[config](x), None
+    return PEERS[config](x), None
 
 
 # ---- the synthetic cells ------------------------------------------------------------
@@ -191,30 +160,30 @@ def cell_metrics(out, out_clean, level, sigma, step):
             "glitch_excursion_rel": excursion}
 
 
+def cell_rows(unit, sigma_rel, glitch_rate, swing, seeds=SEEDS, configs=CONFIGS):
+    """One grid cell: a row per configuration, the worst over the seeds."""
+    step, offset, integer = UNITS[unit]
+    sigma = sigma_rel * step
+    per = {c: [] for c in configs}
+    for seed in range(seeds):
+        rng = np.random.default_rng([seed, int(1 / sigma_rel), int(glitch_rate * 100), swing,
+                                     list(UNITS).index(unit)])
+        level, clean, dirty = make_signal(rng, step, offset, sigma, glitch_rate, swing, integer)
+        halves = np.concatenate([np.arange(k * HOLD + HOLD // 2, (k + 1) * HOLD)
+                                 for k in range(len(LEVELS))])
+        for config in configs:
+            out, sig = run_config(config, dirty, sigma)
+            out_clean = run_config(config, clean, sigma)[0]
+            m = cell_metrics(out, out_clean, level, sigma, step)
+            m["sigma_hat_err_rel"] = (None if sig is None
+                                      else float(np.median(sig[halves])) / sigma - 1.0)
+            per[config].append(m)
+    return [merge(config, unit, sigma_rel, glitch_rate, swing, per[config]) for config in configs]
+
+
 def grid_rows(seeds=SEEDS):
-    rows = []
-    for unit, (step, offset, integer) in UNITS.items():
-        for sigma_rel in SIGMA_REL:
-            sigma = sigma_rel * step
-            for glitch_rate in GLITCH_RATES:
-                for swing in (False, True):
-                    per = {c: [] for c in CONFIGS}
-                    for seed in range(seeds):
-                        rng = np.random.default_rng([seed, int(1 / sigma_rel), int(glitch_rate * 100), swing,
-                                                     list(UNITS).index(unit)])
-                        level, clean, dirty = make_signal(rng, step, offset, sigma, glitch_rate, swing, integer)
-                        halves = np.concatenate([np.arange(k * HOLD + HOLD // 2, (k + 1) * HOLD)
-                                                 for k in range(len(LEVELS))])
-                        for config in CONFIGS:
-                            out, sig = run_config(config, dirty, sigma)
-                            out_clean = run_config(config, clean, sigma)[0]
-                            m = cell_metrics(out, out_clean, level, sigma, step)
-                            m["sigma_hat_err_rel"] = (None if sig is None
-                                                      else float(np.median(sig[halves])) / sigma - 1.0)
-                            per[config].append(m)
-                    for config in CONFIGS:
-                        rows.append(merge(config, unit, sigma_rel, glitch_rate, swing, per[config]))
-    return rows
+    return [row for unit in UNITS for sigma_rel in SIGMA_REL for glitch_rate in GLITCH_RATES
+            for swing in (False, True) for row in cell_rows(unit, sigma_rel, glitch_rate, swing, seeds)]
 
 
 def merge(config, unit, sigma_rel, glitch_rate, swing, ms):
