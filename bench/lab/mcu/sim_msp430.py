@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import re
 
-from lab.mcu.toolchain import Image, McuError, SIM_TIMEOUT, hexdump, run_tool, stack_used, tool
+from lab.mcu.toolchain import SIM_TIMEOUT, STACK_PATTERN, Image, McuError, hexdump, run_tool, stack_used, tool
 
 
 def _msp430_call_site(img: Image, target: int, caller="main"):
