@@ -12,9 +12,9 @@ bench_done() writes RAM from .data to the end of .bss on USART0 as
                    pointer, return address included)
       regions   <- cycles between bench_start() and bench_stop()
       reads     <- {symbol: nbytes}, little-endian raw bytes at the end
-      overhead  <- the two calibration constants the program measured at
-                   start and subtracted (a pair of clock reads; one
-                   Timer 1 overflow interrupt)
+      overhead  <- the calibration constants the program measured at start
+                   and subtracted (an empty BENCH_CALL(), an empty region,
+                   one Timer 1 overflow interrupt)
 
 simavr 1.6 counts AVR cycles per instruction as the datasheet's table
 (no flash wait states on the AVR); it has no instruction counter, so AVR
@@ -76,6 +76,9 @@ def measure_avr(img: Image, funcs=(), regions=(), reads=None) -> dict:
         res["regions"][reg] = {"cycles": _u(rd("bench_region_cycles", 4))[0]}
     for name, n in (reads or {}).items():
         res["reads"][name] = rd(name, n)
-    res["overhead"] = {"clock_read_pair_cycles": int.from_bytes(rd("bench_read_cycles", 2), "little"),
-                       "overflow_isr_cycles": int.from_bytes(rd("bench_isr_cycles", 2), "little")}
+    u16 = lambda name: int.from_bytes(rd(name, 2), "little")                # noqa: E731
+    res["overhead"] = {"empty_call_cycles": u16("bench_call_overhead"),
+                       "empty_region_cycles": u16("bench_region_overhead"),
+                       "overflow_isr_cycles": u16("bench_isr_cycles"),
+                       "stack_floor_bytes": u16("bench_call_stack_floor")}
     return res

@@ -9,10 +9,16 @@ uint32_t bench_call_cycles[BENCH_AVR_MAX_CALLS];
 uint16_t bench_call_stack[BENCH_AVR_MAX_CALLS];
 uint8_t bench_calls;
 uint32_t bench_region_cycles;
-/* measured at start: what a pair of back-to-back clock reads and one
- * overflow interrupt cost (read back with the results) */
-uint16_t bench_read_cycles;
+/* measured at start (read back with the results): what one overflow
+ * interrupt costs, and what an empty BENCH_CALL() and an empty
+ * bench_avr_region_start/stop pair count - the measuring code itself */
 uint16_t bench_isr_cycles;
+uint16_t bench_call_overhead;
+uint16_t bench_region_overhead;
+/* the stack this measuring code uses itself: a call's stack_bytes is the
+ * larger of its own and this */
+uint16_t bench_call_stack_floor;
+static uint8_t calibrating;
 
 static volatile uint16_t overflows;
 static uint32_t mark;
@@ -40,7 +46,7 @@ static uint32_t elapsed(void)
 {
     uint32_t now = bench_avr_clock();
     uint16_t isr = (uint16_t)(overflows - mark_overflows);
-    return now - mark - bench_read_cycles - (uint32_t)isr * bench_isr_cycles;
+    return now - mark - (uint32_t)isr * bench_isr_cycles;
 }
 
 static void start(void)
@@ -50,17 +56,16 @@ static void start(void)
 }
 
 /* A known delay measured across an overflow and without one: the
- * difference is the interrupt's cost; two reads back to back the reads'. */
+ * difference is the interrupt's cost.  Then the measuring code around an
+ * empty statement, through the very functions a measurement calls. */
 static void calibrate(void)
 {
-    uint32_t a, b, with_isr, without;
+    uint32_t with_isr, without;
+    uint16_t top;
     TCCR1A = 0;
     TCCR1B = _BV(CS10);                 /* clk/1 */
     TIMSK1 = _BV(TOIE1);
     sei();
-    a = bench_avr_clock();
-    b = bench_avr_clock();
-    bench_read_cycles = (uint16_t)(b - a);
     TCNT1 = 0;
     start();
     __builtin_avr_delay_cycles(1000);
@@ -70,6 +75,15 @@ static void calibrate(void)
     __builtin_avr_delay_cycles(1000);
     with_isr = bench_avr_clock() - mark;
     bench_isr_cycles = (uint16_t)(with_isr - without);
+    TCNT1 = 0;
+    bench_avr_region_start();
+    bench_avr_region_stop();
+    bench_region_overhead = (uint16_t)bench_region_cycles;
+    calibrating = 1;
+    top = bench_avr_paint();
+    bench_avr_call_begin();
+    bench_avr_call_end(top);
+    calibrating = 0;
 }
 
 /* before main (.init8): the clock runs from the first harness line on */
@@ -80,19 +94,26 @@ void bench_avr_init(void)
 }
 
 void bench_avr_region_start(void) { start(); }
-void bench_avr_region_stop(void) { bench_region_cycles = elapsed(); }
+void bench_avr_region_stop(void) { bench_region_cycles = elapsed() - bench_region_overhead; }
 
 void bench_avr_call_begin(void) { start(); }
 
 void bench_avr_call_end(uint16_t stack_top)
 {
-    uint32_t cycles = elapsed();
+    uint32_t cycles = elapsed() - bench_call_overhead;
     const uint8_t *p = &__heap_start;
+    uint16_t stack;
     while (*p == BENCH_AVR_STACK_FILL && (uint16_t)p < stack_top)
         p++;
+    stack = (uint16_t)(stack_top - (uint16_t)p + 1u);
+    if (calibrating) {
+        bench_call_overhead = (uint16_t)cycles;
+        bench_call_stack_floor = stack;
+        return;
+    }
     if (bench_calls < BENCH_AVR_MAX_CALLS) {
         bench_call_cycles[bench_calls] = cycles;
-        bench_call_stack[bench_calls] = (uint16_t)(stack_top - (uint16_t)p + 1u);
+        bench_call_stack[bench_calls] = stack;
         bench_calls++;
     }
 }
