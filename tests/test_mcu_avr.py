@@ -17,9 +17,9 @@ def test_timer1_clock_counts_known_delays_exactly():
     short, long_ = r["funcs"]["delay_short"]["cycles"], r["funcs"]["delay_long"]["cycles"]
     assert long_ - short == 200000 - 1000          # overflows of the 16-bit counter subtracted exactly
     assert short == 1000 + 4 + 4                   # + call and ret: the measuring code subtracted
-    assert r["regions"]["bench_start:bench_stop"]["cycles"] - 200000 in range(0, 24)
+    assert r["regions"]["bench_start:bench_stop"]["cycles"] - 200000 in range(8, 24)   # + call, ret, marker calls
     assert r["overhead"]["overflow_isr_cycles"] > 0
-    assert r["funcs"]["delay_short"]["stack_bytes"] == r["overhead"]["stack_floor_bytes"]
+    assert r["funcs"]["delay_short"]["stack_bytes"] < 24     # the measuring code's own frames: a floor
 
 
 @pytest.mark.parametrize("preset", ["auto", "recommended"])

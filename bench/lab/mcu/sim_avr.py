@@ -10,11 +10,12 @@ bench_done() writes RAM from .data to the end of .bss on USART0 as
                    between two clock reads: argument set-up, call, return,
                    result store) and stack_bytes (below the caller's stack
                    pointer, return address included)
-      regions   <- cycles between bench_start() and bench_stop()
+      regions   <- "a:b": cycles between the markers a and b of
+                   bench_marks.h (each marker's own cost subtracted)
       reads     <- {symbol: nbytes}, little-endian raw bytes at the end
       overhead  <- the calibration constants the program measured at start
-                   and subtracted (an empty BENCH_CALL(), an empty region,
-                   one Timer 1 overflow interrupt)
+                   and subtracted (an empty BENCH_CALL(), a marker, one
+                   Timer 1 overflow interrupt)
 
 simavr 1.6 counts AVR cycles per instruction as the datasheet's table
 (no flash wait states on the AVR); it has no instruction counter, so AVR
@@ -25,9 +26,13 @@ from __future__ import annotations
 import re
 
 from lab.mcu.build_avr import AVR_F_CPU, AVR_MCU
-from lab.mcu.toolchain import SIM_TIMEOUT, Image, McuError, run_tool, tool
+from lab.mcu.toolchain import MCU_DIR, SIM_TIMEOUT, Image, McuError, run_tool, tool
 
 _RAM_LINE = re.compile(r"@([0-9a-f]{4}) ((?:[0-9a-f]{2})+)")
+BENCH_AVR_MARKS = 8
+# marker name -> id, as bench_marks.h defines them (BENCH_MARKER(name, id))
+MARKER_IDS = {m.group(1): int(m.group(2)) for m in re.finditer(
+    r"^BENCH_MARKER\((\w+), (\d+)\)", (MCU_DIR / "harness" / "bench_marks.h").read_text(), re.M)}
 DATA_SPACE = 0x800000          # avr-nm's offset of RAM addresses
 
 
@@ -70,15 +75,15 @@ def measure_avr(img: Image, funcs=(), regions=(), reads=None) -> dict:
     for i, fn in enumerate(funcs):
         res["funcs"][fn] = {"cycles": cycles[i],
                             "stack_bytes": int.from_bytes(stack[2 * i:2 * i + 2], "little")}
+    marks = _u(rd("bench_mark_cycles", 4 * BENCH_AVR_MARKS))
     for reg in regions:
-        if reg != "bench_start:bench_stop":
-            raise McuError(f"AVR harnesses measure the bench_start:bench_stop region only, not {reg}")
-        res["regions"][reg] = {"cycles": _u(rd("bench_region_cycles", 4))[0]}
+        a, b = (MARKER_IDS[m] for m in reg.split(":"))
+        res["regions"][reg] = {"cycles": marks[b] - marks[a]}
     for name, n in (reads or {}).items():
         res["reads"][name] = rd(name, n)
     u16 = lambda name: int.from_bytes(rd(name, 2), "little")                # noqa: E731
     res["overhead"] = {"empty_call_cycles": u16("bench_call_overhead"),
-                       "empty_region_cycles": u16("bench_region_overhead"),
+                       "marker_cycles": u16("bench_mark_overhead"),
                        "overflow_isr_cycles": u16("bench_isr_cycles"),
                        "stack_floor_bytes": u16("bench_call_stack_floor")}
     return res

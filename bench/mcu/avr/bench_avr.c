@@ -8,19 +8,21 @@
 uint32_t bench_call_cycles[BENCH_AVR_MAX_CALLS];
 uint16_t bench_call_stack[BENCH_AVR_MAX_CALLS];
 uint8_t bench_calls;
-uint32_t bench_region_cycles;
+uint32_t bench_mark_cycles[BENCH_AVR_MARKS];
 /* measured at start (read back with the results): what one overflow
- * interrupt costs, and what an empty BENCH_CALL() and an empty
- * bench_avr_region_start/stop pair count - the measuring code itself */
+ * interrupt costs, and what an empty BENCH_CALL() and two markers back to
+ * back count - the measuring code itself */
 uint16_t bench_isr_cycles;
 uint16_t bench_call_overhead;
-uint16_t bench_region_overhead;
+uint16_t bench_mark_overhead;
 /* the stack this measuring code uses itself: a call's stack_bytes is the
  * larger of its own and this */
 uint16_t bench_call_stack_floor;
 static uint8_t calibrating;
 
 static volatile uint16_t overflows;
+static uint16_t marks;                 /* markers called so far */
+static uint32_t mark_at_first;         /* calibration: the first of two back-to-back markers */
 static uint32_t mark;
 static uint16_t mark_overflows;
 
@@ -75,10 +77,10 @@ static void calibrate(void)
     __builtin_avr_delay_cycles(1000);
     with_isr = bench_avr_clock() - mark;
     bench_isr_cycles = (uint16_t)(with_isr - without);
-    TCNT1 = 0;
-    bench_avr_region_start();
-    bench_avr_region_stop();
-    bench_region_overhead = (uint16_t)bench_region_cycles;
+    bench_avr_mark(0);
+    bench_avr_mark(0);
+    bench_mark_overhead = (uint16_t)(bench_mark_cycles[0] - mark_at_first);
+    marks = 0;
     calibrating = 1;
     top = bench_avr_paint();
     bench_avr_call_begin();
@@ -93,8 +95,18 @@ void bench_avr_init(void)
     calibrate();
 }
 
-void bench_avr_region_start(void) { start(); }
-void bench_avr_region_stop(void) { bench_region_cycles = elapsed() - bench_region_overhead; }
+/* the clock with the overflow interrupts taken out, and per marker called
+ * before this one, its own cost */
+void bench_avr_mark(uint8_t id)
+{
+    uint32_t now = bench_avr_clock() - (uint32_t)overflows * bench_isr_cycles
+                   - (uint32_t)marks * bench_mark_overhead;
+    if (marks == 0u)
+        mark_at_first = now;
+    marks++;
+    if (id < BENCH_AVR_MARKS)
+        bench_mark_cycles[id] = now;
+}
 
 void bench_avr_call_begin(void) { start(); }
 

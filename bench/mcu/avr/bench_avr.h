@@ -4,9 +4,12 @@
  * Timer 1 runs at clk/1; its overflow interrupt extends it to 32 bits.  A
  * figure is the difference of two clock reads minus what the reads
  * themselves and the overflow interrupts in between cost, both measured by
- * the program at start (bench_avr_calibrate): cycles of the code between
- * the reads, nothing else.  Results stay in RAM (bench_call_cycles[],
- * bench_call_stack[], bench_region_cycles); bench_done() dumps RAM on the
+ * the program at start (calibrate() in bench_avr.c): cycles of the code
+ * between the reads, nothing else.  Results stay in RAM: per BENCH_CALL()
+ * bench_call_cycles[] and bench_call_stack[]; per marker of bench_marks.h
+ * bench_mark_cycles[id], the clock when it was called (overflow interrupts
+ * taken out, one marker call's own cost subtracted per marker), so a region
+ * between two markers is the difference.  bench_done() dumps RAM on the
  * UART and stops the simulator (sleep with interrupts off). */
 #ifndef BENCH_AVR_H
 #define BENCH_AVR_H
@@ -20,11 +23,11 @@
 extern uint32_t bench_call_cycles[BENCH_AVR_MAX_CALLS];
 extern uint16_t bench_call_stack[BENCH_AVR_MAX_CALLS];
 extern uint8_t bench_calls;
-extern uint32_t bench_region_cycles;
+#define BENCH_AVR_MARKS 8u
+extern uint32_t bench_mark_cycles[BENCH_AVR_MARKS];
 
 uint32_t bench_avr_clock(void);
-void bench_avr_region_start(void);
-void bench_avr_region_stop(void);
+void bench_avr_mark(uint8_t id);
 void bench_avr_call_begin(void);
 void bench_avr_call_end(uint16_t stack_top);
 void bench_avr_dump_and_stop(void);
