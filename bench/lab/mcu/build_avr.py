@@ -9,7 +9,7 @@ import re
 import shutil
 from pathlib import Path
 
-from lab.mcu.sources import csrc_defining
+from lab.mcu.sources import link_adding_csrc
 from lab.mcu.toolchain import (BUILD_DIR, CSRC_INCLUDE, Image, MCU_DIR, McuError, cache_key,
                                define_flags, run_tool, tool)
 
@@ -51,17 +51,10 @@ def build_avr(sources, harness, defines=(), *, name=None, include_dirs=(), outdi
     for s in units:
         compile_one(s)
     elf = outdir / f"{name}.elf"
-    for _ in range(4):      # add the csrc/*.c that define still-undefined symbols
-        try:
-            run_tool([gcc, f"-mmcu={AVR_MCU}", "-Wl,--gc-sections", *objs, "-lm", "-o", elf])
-            break
-        except McuError as e:
-            extra = csrc_defining(re.findall(r"undefined reference to `(\w+)'", str(e)), sources)
-            if not extra:
-                raise
-            for s in extra:
-                compile_one(s)
-                sources.append(s)
+    link_adding_csrc(lambda: run_tool([gcc, f"-mmcu={AVR_MCU}", "-Wl,--gc-sections", *objs, "-lm",
+                                       "-o", elf]),
+                     lambda extra: [compile_one(s) for s in extra], sources,
+                     r"undefined reference to `(\w+)'")
     img = Image("avr", elf)
     avr_symbols(img)
     return img

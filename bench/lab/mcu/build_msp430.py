@@ -9,8 +9,8 @@ import re
 import shutil
 from pathlib import Path
 
-from lab.mcu.sources import csrc_defining
-from lab.mcu.toolchain import (BUILD_DIR, CRT_FLOAT_FILES, CSRC_INCLUDE, Image, MCU_DIR, McuError,
+from lab.mcu.sources import link_adding_csrc
+from lab.mcu.toolchain import (BUILD_DIR, CRT_FLOAT_FILES, CSRC_INCLUDE, Image, MCU_DIR,
                                define_flags, file_key, cache_key, run_tool, compiler_rt_builtins,
                                tool)
 
@@ -80,19 +80,14 @@ def build_msp430(sources, harness, defines=(), *, hwmult=True, name=None,
             "--defsym=__mspabi_addf=__addsf3", "--defsym=__mspabi_subf=__subsf3",
             "--defsym=__mspabi_mpyf=__mulsf3", "--defsym=__mspabi_divf=__divsf3",
             "--defsym=__mspabi_cmpf=__lesf2", *_msp430_runtime(hwmult)]
-    for _ in range(4):      # add the csrc/*.c that define still-undefined symbols
-        try:
-            run_tool([*link, *objs, "-o", elf])
-            break
-        except McuError as e:
-            extra = csrc_defining(re.findall(r"undefined symbol: (\w+)", str(e)), sources)
-            if not extra:
-                raise
-            for s in extra:
-                o = outdir / (s.stem + ".o")
-                run_tool([clang, *MSP430_CFLAGS, *hw, *dflags, *inc, "-c", s, "-o", o])
-                objs.append(o)
-                sources.append(s)
+    def compile_more(extra):
+        for s in extra:
+            o = outdir / (s.stem + ".o")
+            run_tool([clang, *MSP430_CFLAGS, *hw, *dflags, *inc, "-c", s, "-o", o])
+            objs.append(o)
+
+    link_adding_csrc(lambda: run_tool([*link, *objs, "-o", elf]), compile_more, sources,
+                     r"undefined symbol: (\w+)")
     img = Image("msp430", elf, hwmult)
     msp430_symbols(img)
     return img

@@ -45,15 +45,20 @@ def _mcs51_code_closure(img: Image, func: str) -> dict:
             m = re.search(r"\b(?:lcall|ljmp|acall|ajmp)\s+(_[A-Za-z0-9_]+)\s*$", line)
             if m and cur:
                 calls.setdefault(cur, set()).add(m.group(1))
-    by_name = {n: a for a, n in labels}
-    seen, todo = {}, ["_" + func]
+    return {k[1:]: v for k, v in _reachable("_" + func, calls, size).items()}
+
+
+def _reachable(func, calls, size) -> dict:
+    """{name: size[name]} of every function with a known size reachable from
+    func through `calls` (name -> names it calls or branches to)."""
+    seen, todo = {}, [func]
     while todo:
         f = todo.pop()
-        if f in seen or f not in by_name:
+        if f in seen or f not in size:
             continue
         seen[f] = size[f]
         todo.extend(calls.get(f, ()))
-    return {k[1:]: v for k, v in seen.items()}
+    return seen
 
 
 def code_closure(img: Image, func: str) -> dict:
@@ -108,14 +113,7 @@ def _avr_code_closure(img: Image, func: str) -> dict:
             end = int(m.group(1), 16)
     size = {n: (labels[i + 1][0] if i + 1 < len(labels) else end + 2) - a
             for i, (a, n) in enumerate(labels)}
-    seen, todo = {}, [func]
-    while todo:
-        f = todo.pop()
-        if f in seen or f not in size:
-            continue
-        seen[f] = size[f]
-        todo.extend(calls.get(f, ()))
-    return seen
+    return _reachable(func, calls, size)
 
 
 def is_helper(name: str) -> bool:

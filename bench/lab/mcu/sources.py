@@ -23,6 +23,24 @@ def csrc_defining(symbols, have) -> list[Path]:
     return found
 
 
+def link_adding_csrc(link, compile_more, sources: list, undefined: str):
+    """link() (raises McuError naming undefined symbols); while it fails on
+    symbols that csrc/*.c files not yet in `sources` define,
+    compile_more(those files), add them to `sources` and link again.
+    undefined: a regular expression whose group 1 is a symbol in the
+    linker's message."""
+    for _ in range(4):
+        try:
+            return link()
+        except McuError as e:
+            extra = csrc_defining(re.findall(undefined, str(e)), sources)
+            if not extra:
+                raise
+            compile_more(extra)
+            sources.extend(extra)
+    return link()
+
+
 def c_sources() -> list[Path]:
     """Every .c file of the C library (csrc/<area>/*.c)."""
     return sorted(CSRC.glob("*/*.c"))
