@@ -200,12 +200,17 @@ def table3(a):
     return rows
 
 
-PEER_CELL = {"unit": "counts", "sigma_rel": 1 / 200, "glitch_rate": 0.01, "swing": True}
+# two HX711-like cells of bench/weighing_defaults.py's grid: integer counts,
+# noise step/200; clean, and with 1 % read glitches and a hand-placed swing
+PEER_CELLS = {"clean": {"unit": "counts", "sigma_rel": 1 / 200, "glitch_rate": 0.0, "swing": False},
+              "glitches_swing": {"unit": "counts", "sigma_rel": 1 / 200, "glitch_rate": 0.01,
+                                 "swing": True}}
+PEER_FIGURES = ("settle_s", "settle_s_median", "steady_std_rel", "glitch_excursion_rel")
 
 
 def table4(t2):
     """The HX711 libraries' smoothing beside the chain: cost on the AVR from
-    this run, behaviour from weighing_defaults on one HX711-like cell."""
+    this run, behaviour from weighing_defaults on PEER_CELLS."""
     import weighing_defaults as wd
     ours = {r["preset"]: r for r in t2 if r["target"].startswith("atmega") and r["form"] == "fixed"}
     rows = [{"config": "default" if p == "auto" else p, "library": f"pysig chain, preset {p!r} (fixed)",
@@ -215,24 +220,26 @@ def table4(t2):
              "text_bytes": ours[p]["text_bytes"] + ours[p]["helper_bytes"]}
             for p in ("auto", "recommended") if p in ours]
     rows += [dict(r, text_bytes=r["text_bytes"] + r["helper_bytes"]) for r in peer_rows()]
-    figs = {f["config"]: f for f in wd.cell_rows(PEER_CELL["unit"], PEER_CELL["sigma_rel"],
-                                                 PEER_CELL["glitch_rate"], PEER_CELL["swing"],
-                                                 configs=[r["config"] for r in rows])}
-    for r in rows:
-        f = figs[r["config"]]
-        r.update(settle_s=f["settle_s"], settle_s_median=f["settle_s_median"],
-                 steady_std_rel=round(f["steady_std_rel"], 3),
-                 glitch_excursion_rel=round(f["glitch_excursion_rel"], 3))
+    for cell, c in PEER_CELLS.items():
+        figs = {f["config"]: f for f in wd.cell_rows(c["unit"], c["sigma_rel"], c["glitch_rate"],
+                                                     c["swing"], configs=[r["config"] for r in rows])}
+        for r in rows:
+            r[cell] = {k: (round(figs[r["config"]][k], 3) if figs[r["config"]][k] is not None else None)
+                       for k in PEER_FIGURES}
     print("\nTable 4 - the HX711 libraries' smoothing beside the chain, ATmega328P @ 16 MHz, same "
           "run (block reads: one call consumes `samples_per_call` samples); behaviour from "
-          f"bench/weighing_defaults.py on one cell: {PEER_CELL} (settle: s, worst over the steps; "
-          "steady std and glitch excursion / sigma)")
-    print(_table(rows, ["config", "cycles_per_output", "samples_per_call", "cycles_per_sample",
-                        "ram_bytes", "text_bytes", "settle_s", "settle_s_median", "steady_std_rel",
-                        "glitch_excursion_rel"]))
+          "bench/weighing_defaults.py (settle: s from the change to within +-sigma for good, worst "
+          "step / median, None = a step never settles; steady std and glitch excursion / sigma):")
+    for cell, c in PEER_CELLS.items():
+        print(f"  {cell}: {c}")
+    flat = [dict(r, **{f"{cell}_{k}": r[cell][k] for cell in PEER_CELLS for k in PEER_FIGURES})
+            for r in rows]
+    print(_table(flat, ["config", "cycles_per_output", "samples_per_call", "cycles_per_sample",
+                        "ram_bytes", "text_bytes"]
+                 + [f"{cell}_{k}" for cell in PEER_CELLS for k in PEER_FIGURES]))
     for r in rows:
         print(f"  {r['config']}: {r['library']}")
-    return {"cell": PEER_CELL, "rows": rows}
+    return {"cells": PEER_CELLS, "rows": rows}
 
 
 def targets(t1, t2, a, t1b=()):
