@@ -88,7 +88,8 @@ def main(argv=None):
     t1b = print_table1b(table1b(a.vdd)) if a.table in ("1", "all") else []
     if a.table in ("2", "all"):
         t2, t3 = table2(a)
-    avr_tcomp, peers = ([], None) if a.no_avr or a.table != "all" else (table3(a), table4(t2))
+    avr_tcomp, peers, sketches = (([], None, []) if a.no_avr or a.table != "all"
+                                  else (table3(a), table4(t2), arduino_examples()))
     checks, profiles, experiment = targets(t1, t2, a, t1b)
     if a.json:
         a.json.parent.mkdir(parents=True, exist_ok=True)
@@ -102,7 +103,7 @@ def main(argv=None):
                                 "at clk/1 (bench/mcu/avr/bench_avr.h), gcc-avr 5.4 -Os, avr-libc 2.0",
                      "avr_hz": AVR_HZ},
             "table1": t1, "table1b_table_lookup": t1b, "table2": t2, "mcs51_tcomp": t3,
-            "avr_tcomp": avr_tcomp, "avr_peers": peers,
+            "avr_tcomp": avr_tcomp, "avr_peers": peers, "arduino_examples": sketches,
             "targets": checks,
             "experiment_tcomp_fast": experiment, "profiles": profiles}, indent=1))
         print(f"\nwrote {a.json}")
@@ -197,6 +198,26 @@ def table3(a):
     print(_table(rows, ["family", "form", "order", "cycles", "cycles_avg_batch", "cycles_apply_avg_batch",
                         "time_us", "text_bytes", "helper_bytes", "model_bytes", "stack_bytes",
                         "image_bytes"]))
+    return rows
+
+
+def arduino_examples():
+    """The Arduino library's examples (arduino/make_library.py) built as the
+    IDE builds them for the Uno: flash and static RAM of each sketch."""
+    import subprocess
+    import sys
+    from lab.mcu.build_arduino import build_sketch
+    out = runner.BUILD_DIR / "arduino-library"
+    subprocess.run([sys.executable, str(runner.ROOT / "arduino" / "make_library.py"), str(out)],
+                   check=True, capture_output=True)
+    rows = []
+    for ex in ("HX711Scale", "CompensatedSensor"):
+        r = build_sketch(out / "SigCore", ex)
+        rows.append({"example": ex, "board": "Arduino Uno (ATmega328P)", "flash_bytes": r["flash_bytes"],
+                     "static_ram_bytes": r["ram_bytes"]})
+    print("\nArduino library examples (gcc-avr -Os with Debian's Arduino core; flash of 32256, "
+          "static RAM of 2048):")
+    print(_table(rows, ["example", "flash_bytes", "static_ram_bytes"]))
     return rows
 
 
