@@ -204,12 +204,15 @@ def table3(a):
 def arduino_examples():
     """The Arduino library's examples (arduino/make_library.py) built as the
     IDE builds them for the Uno: flash and static RAM of each sketch."""
+    import os
     import subprocess
     import sys
+    import pysig
     from lab.mcu.build_arduino import build_sketch
     out = runner.BUILD_DIR / "arduino-library"
+    env = dict(os.environ, PYTHONPATH=str(Path(pysig.__file__).resolve().parents[1]))
     subprocess.run([sys.executable, str(runner.ROOT / "arduino" / "make_library.py"), str(out)],
-                   check=True, capture_output=True)
+                   check=True, capture_output=True, env=env)
     rows = []
     for ex in ("HX711Scale", "CompensatedSensor"):
         r = build_sketch(out / "SigCore", ex)

@@ -10,6 +10,7 @@ import os
 import re
 import subprocess
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,8 +23,12 @@ EXAMPLES = ("HX711Scale", "CompensatedSensor")
 
 
 def _make_library(tmp_path):
-    subprocess.run(["python3", str(ARDUINO / "make_library.py"), str(tmp_path)], check=True,
-                   capture_output=True, cwd=ROOT)
+    import sys
+    import pysig
+    # the script sees the pysig this test imports (not another checkout's)
+    env = dict(os.environ, PYTHONPATH=str(Path(pysig.__file__).resolve().parents[1]))
+    subprocess.run([sys.executable, str(ARDUINO / "make_library.py"), str(tmp_path)], check=True,
+                   capture_output=True, cwd=ROOT, env=env)
     return tmp_path / "SigCore"
 
 
