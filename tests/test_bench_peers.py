@@ -18,7 +18,7 @@ def test_hx711_adc_drops_max_and_min_of_18_and_shifts_by_4():
     assert peers.hx711_adc(np.array([1.0] * 17 + [2.0]))[-1] == 1.0   # (19 - 2 - 1) >> 4
     # in another unit (no whole code to round to) the same window, not rounded
     assert peers.hx711_adc(np.full(18, 0.3))[-1] == pytest.approx(0.3, rel=1e-12)
-    assert peers.hx711_adc(np.full(18, 0.3) + np.arange(18) / 64)[-1] != np.floor(0.3 + 8.5 / 64)
+    assert peers.hx711_adc(0.3 + np.arange(18) / 64)[-1] == pytest.approx(0.3 + 8.5 / 64, rel=1e-12)
 
 
 def test_bogde_average_truncates_toward_zero():
