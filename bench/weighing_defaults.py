@@ -27,6 +27,7 @@ load).  Every configuration runs on every cell:
 
 Each peer's source file, default and arithmetic: bench/lab/studies/peers.py
 (shared with the other weighing benches).
+
 Per cell and configuration (JSON rows): config, unit, sigma_rel (sigma /
 step), glitch_rate, swing, steady_std_rel (std of output - level over the
 second half of every plateau, / sigma), steady_err_rel (largest |median
@@ -52,10 +53,13 @@ settle time uses the recording bench's band (+-0.05 lb) and definition
 "recommended" runs on kg with units_per_kg 1, as that bench runs it.
 A PNG: settle time against steady noise per configuration.
 
-"summary" (one row per configuration, over every grid cell): the settle
-time, the steady noise and the glitch excursion as separate figures, each
-named for what it counts (steps_settled_of_steps, settle_s_median_of_settled_
-steps, ..., steady_std_rel_median_of_cells, glitch_excursion_rel_median_of_cells).
+"summary" (one row per configuration, over every grid cell and seed): the
+settle time, the steady noise and the glitch excursion as separate figures,
+each named for what it counts: steps, steps_settled (steps that settle by
+mid-plateau), settle_s_median_of_settled_steps and
+settle_s_p90_of_settled_steps, cells_every_step_settled,
+steady_std_rel_median_of_cells and _worst_cell,
+glitch_excursion_rel_median_of_cells and _worst_cell.
 """
 import argparse
 import json
