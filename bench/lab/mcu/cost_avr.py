@@ -15,8 +15,8 @@ from __future__ import annotations
 import numpy as np
 
 from lab.mcu import pwl_vectors, runner, tcomp16_vectors, vectors
-from lab.mcu.cost_tables import (CHAIN_SRC, HARNESS, TCOMP16_SRC, TCOMP_SRC, _i16, check_chain,
-                                 check_tcomp, check_tcomp16, chain_ops, tcomp_ops)
+from lab.mcu.cost_tables import (CHAIN_SRC, HARNESS, TCOMP16_SRC, TCOMP_SRC, _i16, chain_ops,
+                                 chain_reads, check_chain, check_tcomp, check_tcomp16, tcomp_ops)
 from lab.mcu.tmodel_vectors import tmodel_case, write_tmodel_header
 
 AVR_HZ = runner.AVR_F_CPU
@@ -44,8 +44,9 @@ def _cost(img, func, r, n_batch, per_call=1):
 
 def chain_row_avr(form: str, case) -> dict:
     """One chain step (the settled chain's extra step) and the batch, for one
-    preset and numeric form, checked against the host chain (fixed: bit for
-    bit; float: 1e-5 relative, and every status)."""
+    preset and numeric form, every output and status - the timed step's and
+    its stable flag too - checked against the host chain (fixed: bit for
+    bit; float: 1e-5 relative)."""
     tag = "" if case.preset == vectors.CHAIN_PRESET else f"-{case.preset}"
     gen = runner.BUILD_DIR / "gen" / f"chain-avr{tag}"
     vectors.write_chain_header(case, gen / "chain_vectors.h")
@@ -54,8 +55,7 @@ def chain_row_avr(form: str, case) -> dict:
     img = runner.build_avr(CHAIN_SRC, HARNESS / "chain_harness.c", ["BENCH_FLOAT"] if fl else [],
                            include_dirs=[gen], name=f"chain{tag}-{form}")
     n = len(case.x)
-    r = runner.measure(img, funcs=[func], regions=[BATCH],
-                       reads={"vec_out": 4 * n, "vec_status": 2 * n})
+    r = runner.measure(img, funcs=[func], regions=[BATCH], reads=chain_reads(n))
     check_chain(case, form, r["reads"])
     state = runner.symbol_size(img, "chain")
     row = _cost(img, func, r, n)

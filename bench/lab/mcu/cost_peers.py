@@ -2,7 +2,8 @@
 peer of bench/mcu/peers/hx711_peers.c built with the same gcc-avr flags,
 run in simavr over HX711 codes (lab.mcu.vectors.chain_case's weighing run
 as 24-bit offset binary), every output checked against the host form of
-lab.studies.hx711_peers before its cycles count.
+lab.studies.peers (what bench/weighing_defaults.py runs) before its cycles
+count.
 
 Per peer: cycles of one output (one call: HX711_ADC's ring step, or a
 block read over its `times` samples), samples the call consumes, cycles
@@ -16,7 +17,7 @@ import numpy as np
 from lab.mcu import runner, vectors
 from lab.mcu.cost_avr import AVR_CHAIN_N, AVR_HZ, AVR_TARGET, BATCH
 from lab.mcu.vectors import c_array, c_int32
-from lab.studies import hx711_peers as host
+from lab.studies import peers as host
 
 PEERS_DIR = runner.MCU_DIR / "peers"
 HX711_OFFSET = 0x800000          # the libraries' data ^ 0x800000: two's complement -> offset binary
@@ -25,11 +26,11 @@ PEERS = {
     "hx711_adc": ("PEER_HX711_ADC", "hx711_adc_step", 1, host.hx711_adc, False,
                   "olkal/HX711_ADC: 18-sample ring (SAMPLES 16 + IGN_HIGH/LOW 1), max and min "
                   "dropped, >> 4"),
-    "average10": ("PEER_BOGDE", "bogde_read_average", host.AVERAGE_TIMES, host.average10, False,
+    "average10": ("PEER_BOGDE", "bogde_read_average", host.BOGDE_TIMES, host.average10, False,
                   "bogde/HX711 read_average(10): long sum / 10"),
-    "median7": ("PEER_MEDIAN", "rob_read_median", host.MEDIAN_TIMES, host.median7, True,
+    "median7": ("PEER_MEDIAN", "rob_read_median", host.ROB_TIMES, host.median7, True,
                 "RobTillaart/HX711 read_median(7): float insertion sort, middle"),
-    "medavg7": ("PEER_MEDAVG", "rob_read_medavg", host.MEDIAN_TIMES, host.medavg7, True,
+    "medavg7": ("PEER_MEDAVG", "rob_read_medavg", host.ROB_TIMES, host.medavg7, True,
                 "RobTillaart/HX711 read_medavg(7): float insertion sort, mean of the middle"),
 }
 
@@ -47,15 +48,16 @@ def write_peers_header(codes, path: Path) -> Path:
 
 
 def _check(name, fw, codes, window, is_float):
-    """fixed outputs: floor of the host's (codes >= 0: the shift and the
-    long division floor); float: RobTillaart's float32 arithmetic, within 2
-    codes (float32 spacing at 2^23..2^24 is 1) of the host's float64."""
-    ref = PEERS[name][3](codes)
+    """fixed outputs: equal to the host's (which rounds to whole codes as
+    the library's shift and long division do); float: RobTillaart's float32
+    arithmetic, within 2 codes (float32 spacing at 2^23..2^24 is 1) of the
+    host's float64."""
+    ref = PEERS[name][3](codes.astype(float))
     fw, ref = fw[window - 1:], ref[window - 1:]
     ok = (np.all(np.abs(fw - ref) <= 2.0) if is_float
-          else np.array_equal(fw, np.floor(ref).astype(np.int64)))
+          else np.array_equal(fw, ref.astype(np.int64)))
     if not ok:
-        raise SystemExit(f"{name} on the AVR: outputs differ from lab.studies.hx711_peers")
+        raise SystemExit(f"{name} on the AVR: outputs differ from lab.studies.peers")
 
 
 def peer_row(name: str) -> dict:

@@ -1,7 +1,7 @@
 /* hx711_peers.h - the smoothing of the Arduino HX711 libraries people use,
  * in C for the cost comparison with the chain on the same chip.  Written
- * from their published sources (bench/lab/studies/hx711_peers.py names the
- * files and defaults); none of their code is copied.  Inputs are the codes
+ * from their published sources (bench/lab/studies/peers.py names the
+ * commits, files and defaults); none of their code is copied.  Inputs are the codes
  * those libraries hold: 24-bit offset binary (HX711 two's complement ^
  * 0x800000), non-negative. */
 #ifndef HX711_PEERS_H
