@@ -99,10 +99,20 @@ def _uart_lines(elf, seconds):
     return [ln[:-2] for ln in text.splitlines() if ln.endswith("..")]   # simavr shows "\r\n" as ".."
 
 
+_BUILT = {}
+
+
+def _sketch(library, example):
+    """build_sketch once per example for this module (the run tests reuse it)."""
+    _require_arduino()
+    if example not in _BUILT:
+        _BUILT[example] = build_sketch(library, example)
+    return _BUILT[example]
+
+
 @pytest.mark.parametrize("example", EXAMPLES)
 def test_example_builds_for_the_atmega328p(library, example):
-    _require_arduino()
-    r = build_sketch(library, example)
+    r = _sketch(library, example)
     assert 0 < r["flash_bytes"] <= 32256 and 0 < r["ram_bytes"] <= 2048
 
 
@@ -111,7 +121,7 @@ def test_scale_example_runs_the_default_chain(library):
     printed stable flags follow the host chain on zeros, tare applied."""
     _require_arduino()
     from pysig.weigh import Chain
-    lines = _uart_lines(build_sketch(library, "HX711Scale")["elf"], 3)[:40]
+    lines = _uart_lines(_sketch(library, "HX711Scale")["elf"], 3)[:40]
     assert len(lines) >= 20
     _, stable, _ = Chain("auto", fixed=True).process(np.zeros(len(lines)), flags=True)
     assert [ln.split()[0] for ln in lines] == ["0.000"] * len(lines)
@@ -122,7 +132,7 @@ def test_scale_example_runs_the_default_chain(library):
 def test_compensated_sensor_installs_and_loads_the_factory_image(library):
     _require_arduino()
     from pysig.tcomp._tmodel import TModel
-    lines = _uart_lines(build_sketch(library, "CompensatedSensor")["elf"], 3)
+    lines = _uart_lines(_sketch(library, "CompensatedSensor")["elf"], 3)
     assert lines[0] == "calibration slot A, status 0"
     header = (library / "examples" / "CompensatedSensor" / "factory_calibration.h").read_text()
     image = bytes(int(b, 16) for b in re.findall(r"0x([0-9a-f]{2})", header))
