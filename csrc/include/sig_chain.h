@@ -43,6 +43,25 @@
  *    is re-seeded on it): a slow final approach of the load is forgotten
  *    with the window instead of being averaged in.  No sensor constant:
  *    the float form is scale invariant (input * c -> output * c).
+ *    Ramps (a pour is a load change, not a glitch): when the limit rejects
+ *    a second sample on one side and it lies further out than the first by
+ *    more than A0/2, both moved on: the sample is taken (status
+ *    SIG_LIMIT_RESEEDED | SIG_CHAIN_RAMP) and the load is followed as a
+ *    ramp - each sample within A0 of last + slope is the output (the window
+ *    holds it alone; SIG_CHAIN_RAMP), the slope the last difference.  A
+ *    sample within A0/2 of the last followed one and nearer it than the
+ *    prediction ends the ramp (the load stopped; a restart, SIG_CHAIN_MOTION);
+ *    a rejected sample ends it too: back within A0 of where the ramp began it
+ *    is taken (a glitch pair or a bump that came back, SIG_LIMIT_RESEEDED),
+ *    else the last followed value is held.  Single glitches and pairs at one
+ *    level stay rejected.
+ *    Stable only when the output is backed by the samples: the stability
+ *    detector's verdict is reported only on a sample that was not replaced,
+ *    held, re-seeded, a motion restart or a ramp sample, with a full window
+ *    since the last restart, no motion run under way, the sample within
+ *    3 sigma of the output (near_band) and the window's trimmed mean within
+ *    1 sigma of it (a load that has begun to move faster than the output
+ *    follows).
  *
  * Status: negative = error, nothing changed; otherwise OR of
  * SIG_WARN_CLAMPED, SIG_WARN_REJECTED (limit replaced the sample, or a
@@ -121,6 +140,11 @@ typedef struct {
     bool noise_auto;
     sig_chain_gate gate;
     sig_noise_f noise;
+    /* noise_auto: the ramp follower and the backing of `stable` (above) */
+    sig_real slope, last, origin;   /* per-sample slope, last followed value, Dc before the ramp */
+    sig_real prev_x;        /* last finite sample */
+    sig_real near_band;     /* 3 sigma */
+    bool ramp, settled;     /* following a ramp; the stability detector's own verdict */
 } sig_chain_f;
 
 typedef struct {
@@ -136,6 +160,9 @@ typedef struct {
     bool noise_auto;
     sig_chain_gate gate;
     sig_noise_q noise;
+    int32_t slope, last, origin, prev_x;   /* codes (|slope| <= 2^25) */
+    int32_t near_band;      /* Q24.7 */
+    bool ramp, settled;
 } sig_chain_q;
 
 /* The weighing paper's parameters in kg: Q 1e-7, R 0.05, x0 1, P0 10, N 12, A0 2 kg

@@ -64,6 +64,7 @@ static void set_thresholds_f(sig_chain_f *c)
     c->st.step = SIG_REAL(0.25) * s;
     c->zero_band = SIG_REAL(2.0) * s;
     c->zero_rate = SIG_REAL(0.0625) * s;
+    c->near_band = SIG_REAL(3.0) * s;
 }
 
 /* noise_auto, after the stages: whether this sample may update the noise
@@ -74,7 +75,7 @@ static void set_thresholds_f(sig_chain_f *c)
  * over either chain (the fields have the same names in both): on the 8051 a
  * call, even an inlined one, costs more than the test. */
 #define NOISE_GATE(c, ret, update) do {                                              \
-        bool event_ = ((ret) & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED)) != 0;        \
+        bool event_ = ((ret) & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED | SIG_CHAIN_RAMP)) != 0; \
         bool rejected_ = ((ret) & SIG_WARN_REJECTED) != 0;                           \
         sig_chain_gate *g_ = &(c)->gate;                                             \
         if (event_) g_->holdoff = (c)->ap.n;                                         \
@@ -110,6 +111,70 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
     return sig_noise_at_floor_f(&c->noise) ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
 }
 
+/* noise_auto, before the limit: while a ramp is followed the limit judges
+ * the sample against last + slope; a sample within A0/2 of the last
+ * followed one and nearer it than the prediction ends the ramp (returns
+ * true; the limit then takes it). */
+static bool ramp_before_f(sig_chain_f *c, sig_real x)
+{
+    sig_real p, half, dl, dp;
+    if (!c->ramp) return false;
+    p = c->last + c->slope;
+    if (!sig_real_isfinite(p)) p = c->last;
+    half = c->limit.a0 * SIG_REAL(0.5);
+    dl = x - c->last;
+    dp = x - p;
+    if (dl <= half && -dl <= half && (dl < SIG_REAL(0.0) ? -dl : dl) <= (dp < SIG_REAL(0.0) ? -dp : dp)) {
+        c->ramp = false;
+        (void)sig_limit_set_ref_f(&c->limit, c->last);
+        return true;
+    }
+    (void)sig_limit_set_ref_f(&c->limit, p);
+    return false;
+}
+
+/* noise_auto, after the limit: start, follow or end a ramp (sig_chain.h);
+ * *y is the limit's output, replaced when the ramp logic takes the sample
+ * or holds the last followed value. */
+static sig_status ramp_after_f(sig_chain_f *c, sig_real x, sig_real *y, sig_status ret)
+{
+    bool finite = sig_real_isfinite(x);
+    sig_real d, a0 = c->limit.a0;
+    switch (sig_chain_ramp_case(&c->ramp, ret, c->limit.t.run)) {
+    case SIG_CHAIN_RAMP_FOLLOW:
+        c->slope = x - c->last;
+        c->last = x;
+        ret = (sig_status)(ret | SIG_CHAIN_RAMP);
+        break;
+    case SIG_CHAIN_RAMP_BROKEN:
+        d = x - c->origin;
+        if (finite && d <= a0 && -d <= a0) {
+            (void)sig_limit_accept_f(&c->limit, x);
+            *y = x;
+            ret = SIG_CHAIN_TAKEN(ret);
+        } else {
+            *y = c->last;
+        }
+        break;
+    case SIG_CHAIN_RAMP_TRY:
+        d = x - c->prev_x;
+        if (finite && (c->limit.t.side > 0 ? d : -d) > a0 * SIG_REAL(0.5)) {
+            c->origin = c->limit.dc;
+            (void)sig_limit_accept_f(&c->limit, x);
+            c->ramp = true;
+            c->slope = d;
+            c->last = x;
+            *y = x;
+            ret = (sig_status)(SIG_CHAIN_TAKEN(ret) | SIG_CHAIN_RAMP);
+        }
+        break;
+    default:
+        break;
+    }
+    if (finite) c->prev_x = x;
+    return ret;
+}
+
 sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p)
 {
     if (!c || !p || !params_ok_f(p)) return SIG_ERR_ARG;
@@ -139,6 +204,9 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->stable = false;
     c->has_out = false;
     noise_gate_reset(&c->gate);
+    c->slope = c->last = c->origin = c->prev_x = SIG_REAL(0.0);
+    c->ramp = false;
+    c->settled = false;
     (void)sig_noise_reset_f(&c->noise);
     set_thresholds_f(c);
     return SIG_OK;
@@ -148,18 +216,29 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
 {
     sig_status st, ret;
     sig_real y, m, xk;
-    bool stab;
+    bool stab, ramp_ended;
     if (!c || !out || !stable) return SIG_ERR_ARG;
+    /* a ramp needs a seeded limit, so nothing changes before the error below */
+    ramp_ended = c->noise_auto && ramp_before_f(c, x);
     st = sig_limit_step_f(&c->limit, x, &y);
     if (st < 0) return st;                      /* non-finite and nothing seeded yet */
     ret = st;
-    if ((st & SIG_LIMIT_RESEEDED) != 0) {
+    if (c->noise_auto) ret = ramp_after_f(c, x, &y, ret);
+    if ((ret & SIG_LIMIT_RESEEDED) != 0) {
         (void)sig_antipulse_reset_f(&c->ap);
         if (c->motion_band > SIG_REAL(0.0)) restart_kf_f(c);
         c->motion_run = 0u;
     }
+    if (c->ramp || ramp_ended) {                /* the window holds the ramp's last sample only */
+        (void)sig_antipulse_reset_f(&c->ap);
+        c->motion_run = 0u;
+    }
+    if (ramp_ended) {
+        restart_kf_f(c);
+        ret = (sig_status)(ret | SIG_CHAIN_MOTION);
+    }
     (void)sig_antipulse_step_f(&c->ap, y, &m);
-    if (c->motion_band > SIG_REAL(0.0) && c->kf.seeded
+    if (c->motion_band > SIG_REAL(0.0) && c->kf.seeded && !c->ramp
         && sig_chain_motion(m - c->kf.x > c->motion_band || c->kf.x - m > c->motion_band,
                             &c->motion_run, c->motion_count)) {
         (void)sig_antipulse_reset_f(&c->ap);
@@ -168,7 +247,7 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
         ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_f(&c->limit, m);
-    if (c->noise_auto && (c->ap.count < c->ap.n || !c->stable))
+    if (c->noise_auto && (c->ap.count < c->ap.n || !c->settled))
         (void)sig_kalman1_reset_f(&c->kf);      /* settling: the window's trimmed mean is the estimate */
     /* m is finite (the anti-pulse mean is clamped to its window), so these
      * cannot fail; if they ever did, stop before using an unset estimate */
@@ -176,6 +255,11 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     if (st < 0) return st;
     st = sig_stable_step_f(&c->st, xk, &stab);
     if (st < 0) return st;
+    c->settled = stab;
+    if (c->noise_auto && stab)
+        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run,
+                                y - xk <= c->near_band && xk - y <= c->near_band
+                                && m - xk <= c->noise.sigma && xk - m <= c->noise.sigma);
     if (stab && sig_chain_offset_f(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
         ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = xk - c->offset;
@@ -238,6 +322,7 @@ static void set_thresholds_q(sig_chain_q *c)
     c->st.step = s >> 2;
     c->zero_band = s2;
     c->zero_rate = s >> 4;
+    c->near_band = s2 + s;
 }
 
 static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)
@@ -248,6 +333,62 @@ static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)
     set_thresholds_q(c);
     /* sig_noise_at_floor_q inline: a call costs the 8051 more than the compare */
     return c->noise.sigma <= SIG_NOISE_FLOOR_Q7 ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
+}
+
+static bool ramp_before_q(sig_chain_q *c, int32_t x)
+{
+    int32_t p, half, dl, dp;
+    if (!c->ramp) return false;
+    p = c->last + c->slope;                     /* |last| < 2^24, |slope| < 2^25: no overflow */
+    p = p > SIG_CODE_MAX ? SIG_CODE_MAX : (p < -SIG_CODE_MAX ? -SIG_CODE_MAX : p);
+    half = c->limit.a0 >> 1;
+    dl = x - c->last;
+    dp = x - p;
+    if (dl <= half && -dl <= half && (dl < 0 ? -dl : dl) <= (dp < 0 ? -dp : dp)) {
+        c->ramp = false;
+        (void)sig_limit_set_ref_q(&c->limit, c->last);
+        return true;
+    }
+    (void)sig_limit_set_ref_q(&c->limit, p);
+    return false;
+}
+
+static sig_status ramp_after_q(sig_chain_q *c, int32_t x, int32_t *y, sig_status ret)
+{
+    int32_t d, a0 = c->limit.a0;
+    switch (sig_chain_ramp_case(&c->ramp, ret, c->limit.t.run)) {
+    case SIG_CHAIN_RAMP_FOLLOW:
+        c->slope = x - c->last;
+        c->last = x;
+        ret = (sig_status)(ret | SIG_CHAIN_RAMP);
+        break;
+    case SIG_CHAIN_RAMP_BROKEN:
+        d = x - c->origin;
+        if (d <= a0 && -d <= a0) {
+            (void)sig_limit_accept_q(&c->limit, x);
+            *y = x;
+            ret = SIG_CHAIN_TAKEN(ret);
+        } else {
+            *y = c->last;
+        }
+        break;
+    case SIG_CHAIN_RAMP_TRY:
+        d = x - c->prev_x;
+        if ((c->limit.t.side > 0 ? d : -d) > (a0 >> 1)) {
+            c->origin = c->limit.dc;
+            (void)sig_limit_accept_q(&c->limit, x);
+            c->ramp = true;
+            c->slope = d;
+            c->last = x;
+            *y = x;
+            ret = (sig_status)(SIG_CHAIN_TAKEN(ret) | SIG_CHAIN_RAMP);
+        }
+        break;
+    default:
+        break;
+    }
+    c->prev_x = x;
+    return ret;
 }
 
 sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p)
@@ -279,6 +420,9 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->stable = false;
     c->has_out = false;
     noise_gate_reset(&c->gate);
+    c->slope = c->last = c->origin = c->prev_x = 0;
+    c->ramp = false;
+    c->settled = false;
     (void)sig_noise_reset_q(&c->noise);
     set_thresholds_q(c);
     return SIG_OK;
@@ -288,19 +432,29 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
 {
     sig_status ret = SIG_OK;
     int32_t y, m, m7, xk;
-    bool stab;
+    bool stab, ramp_ended;
     if (!c || !out_q7 || !stable) return SIG_ERR_ARG;
     if (x > SIG_CODE_MAX) { x = SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
     else if (x < -SIG_CODE_MAX) { x = -SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
+    ramp_ended = c->noise_auto && ramp_before_q(c, x);
     ret = (sig_status)(ret | sig_limit_step_q(&c->limit, x, &y));
+    if (c->noise_auto) ret = ramp_after_q(c, x, &y, ret);
     if ((ret & SIG_LIMIT_RESEEDED) != 0) {
         (void)sig_antipulse_reset_q(&c->ap);
         if (c->motion_band > 0) restart_kf_q(c);
         c->motion_run = 0u;
     }
+    if (c->ramp || ramp_ended) {                /* the window holds the ramp's last sample only */
+        (void)sig_antipulse_reset_q(&c->ap);
+        c->motion_run = 0u;
+    }
+    if (ramp_ended) {
+        restart_kf_q(c);
+        ret = (sig_status)(ret | SIG_CHAIN_MOTION);
+    }
     (void)sig_antipulse_step_q(&c->ap, y, &m);
     m7 = codes_to_q7(m);
-    if (c->motion_band > 0 && c->kf.seeded
+    if (c->motion_band > 0 && c->kf.seeded && !c->ramp
         && sig_chain_motion(sig_abs32_sat(sig_sat_sub32(m7, c->kf.x)) > c->motion_band,
                             &c->motion_run, c->motion_count)) {
         (void)sig_antipulse_reset_q(&c->ap);
@@ -310,10 +464,15 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
         ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_q(&c->limit, m);
-    if (c->noise_auto && (c->ap.count < c->ap.n || !c->stable))
+    if (c->noise_auto && (c->ap.count < c->ap.n || !c->settled))
         (void)sig_kalman1_reset_q(&c->kf);      /* settling: the window's trimmed mean is the estimate */
     (void)sig_kalman1_step_q(&c->kf, m7, &xk);
     (void)sig_stable_step_q(&c->st, xk, &stab);
+    c->settled = stab;
+    if (c->noise_auto && stab)
+        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run,
+                                sig_abs32_sat(sig_sat_sub32(codes_to_q7(y), xk)) <= c->near_band
+                                && sig_abs32_sat(sig_sat_sub32(m7, xk)) <= c->noise.sigma);
     if (stab && sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
         ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = sig_sat_sub32(xk, c->offset);

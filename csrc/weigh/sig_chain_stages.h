@@ -32,6 +32,36 @@ SIG_CHAIN_STAGE bool sig_chain_motion(bool moving, uint8_t *run, uint8_t count)
     return true;
 }
 
+/* noise_auto, the ramp follower after the limit (sig_chain.h): what this
+ * sample is for the ramp, from the limit's status and run; `on` is cleared
+ * when the ramp ends (re-seeded or a rejection).  The caller does the
+ * arithmetic of each case in its own number format. */
+#define SIG_CHAIN_RAMP_NONE 0u
+#define SIG_CHAIN_RAMP_FOLLOW 1u     /* accepted within A0 of the prediction */
+#define SIG_CHAIN_RAMP_BROKEN 2u     /* rejected: back near the origin, or hold */
+#define SIG_CHAIN_RAMP_TRY 3u        /* second rejection on one side: a ramp if it moved on */
+SIG_CHAIN_STAGE uint8_t sig_chain_ramp_case(bool *on, sig_status ret, uint8_t run)
+{
+    bool rejected = (ret & SIG_WARN_REJECTED) != 0;
+    if (!*on) return rejected && run >= 2u ? SIG_CHAIN_RAMP_TRY : SIG_CHAIN_RAMP_NONE;
+    if ((ret & SIG_LIMIT_RESEEDED) != 0 || rejected) *on = false;
+    if ((ret & SIG_LIMIT_RESEEDED) != 0) return SIG_CHAIN_RAMP_NONE;
+    return rejected ? SIG_CHAIN_RAMP_BROKEN : SIG_CHAIN_RAMP_FOLLOW;
+}
+
+/* a sample the ramp logic took after the limit had rejected it: no impulse,
+ * a re-seed (window and Kalman restart) */
+#define SIG_CHAIN_TAKEN(ret) ((sig_status)(((ret) & ~SIG_WARN_REJECTED) | SIG_LIMIT_RESEEDED))
+
+/* noise_auto: the stability detector's verdict counts only when the output
+ * is backed by the samples (sig_chain.h); `near`: the sample and the window
+ * mean near the output, tested by the caller in its own format. */
+SIG_CHAIN_STAGE bool sig_chain_backed(sig_status ret, uint8_t held, uint8_t n, uint8_t motion_run, bool near)
+{
+    return (ret & (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED | SIG_CHAIN_MOTION | SIG_CHAIN_RAMP)) == 0
+        && held == n && motion_run == 0u && near;
+}
+
 /* Tare and zero tracking on a stable sample xk: a pending tare takes xk as
  * the offset (returns true); otherwise, while |xk - offset| <= zband, the
  * offset moves towards xk by at most zrate (zband 0: no tracking). */
