@@ -48,13 +48,16 @@
  *    more than A0/2, both moved on: the sample is taken (status
  *    SIG_LIMIT_RESEEDED | SIG_CHAIN_RAMP) and the load is followed as a
  *    ramp - each sample within A0 of last + slope is the output (the window
- *    holds it alone; SIG_CHAIN_RAMP), the slope the last difference.  A
+ *    holds it alone; SIG_CHAIN_RAMP), the slope moving half way to each new
+ *    difference.  A
  *    sample within A0/2 of the last followed one and nearer it than the
- *    prediction ends the ramp (the load stopped; a restart, SIG_CHAIN_MOTION);
- *    a rejected sample ends it too: back within A0 of where the ramp began it
- *    is taken (a glitch pair or a bump that came back, SIG_LIMIT_RESEEDED),
- *    else the last followed value is held.  Single glitches and pairs at one
- *    level stay rejected.
+ *    prediction is followed with the slope kept; the second in a row ends the
+ *    ramp (the load stopped; a restart, SIG_CHAIN_MOTION).
+ *    A rejected sample back within A0 of where the ramp began ends it and is
+ *    taken (a glitch pair or a bump that came back, SIG_LIMIT_RESEEDED);
+ *    otherwise the last followed value is held, the ramp predicted two
+ *    slopes on (one glitch in a pour), and a second rejection in a row ends
+ *    it.  Single glitches and pairs at one level stay rejected.
  *    Stable only when the output is backed by the samples: the stability
  *    detector's verdict is reported only on a sample that was not replaced,
  *    held, re-seeded, a motion restart or a ramp sample, with a full window
@@ -144,7 +147,8 @@ typedef struct {
     sig_real slope, last, origin;   /* per-sample slope, last followed value, Dc before the ramp */
     sig_real prev_x;        /* last finite sample */
     sig_real near_band;     /* 3 sigma */
-    bool ramp, settled;     /* following a ramp; the stability detector's own verdict */
+    bool ramp, missed, paused;   /* following a ramp; its last sample held; it looked stopped */
+    bool settled;           /* the stability detector's own verdict */
 } sig_chain_f;
 
 typedef struct {
@@ -162,7 +166,7 @@ typedef struct {
     sig_noise_q noise;
     int32_t slope, last, origin, prev_x;   /* codes (|slope| <= 2^25) */
     int32_t near_band;      /* Q24.7 */
-    bool ramp, settled;
+    bool ramp, missed, paused, settled;
 } sig_chain_q;
 
 /* The weighing paper's parameters in kg: Q 1e-7, R 0.05, x0 1, P0 10, N 12, A0 2 kg

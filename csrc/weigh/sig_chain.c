@@ -118,42 +118,43 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
 static bool ramp_before_f(sig_chain_f *c, sig_real x)
 {
     sig_real p, half, dl, dp;
+    bool looks;
     if (!c->ramp) return false;
-    p = c->last + c->slope;
+    p = c->last + (c->missed ? c->slope + c->slope : c->slope);     /* one sample held: two ahead */
     if (!sig_real_isfinite(p)) p = c->last;
     half = c->limit.a0 * SIG_REAL(0.5);
     dl = x - c->last;
     dp = x - p;
-    if (dl <= half && -dl <= half && (dl < SIG_REAL(0.0) ? -dl : dl) <= (dp < SIG_REAL(0.0) ? -dp : dp)) {
-        c->ramp = false;
-        (void)sig_limit_set_ref_f(&c->limit, c->last);
-        return true;
-    }
-    (void)sig_limit_set_ref_f(&c->limit, p);
-    return false;
+    looks = dl <= half && -dl <= half && (dl < SIG_REAL(0.0) ? -dl : dl) <= (dp < SIG_REAL(0.0) ? -dp : dp);
+    (void)sig_limit_set_ref_f(&c->limit, looks ? c->last : p);
+    return sig_chain_ramp_stop(looks, &c->ramp, &c->missed, &c->paused);
 }
 
-/* noise_auto, after the limit: start, follow or end a ramp (sig_chain.h);
+/* noise_auto, after the limit: start, follow or end a ramp (sig_chain.h;
+ * the slope moves half way to each new difference);
  * *y is the limit's output, replaced when the ramp logic takes the sample
  * or holds the last followed value. */
 static sig_status ramp_after_f(sig_chain_f *c, sig_real x, sig_real *y, sig_status ret)
 {
     bool finite = sig_real_isfinite(x);
     sig_real d, a0 = c->limit.a0;
-    switch (sig_chain_ramp_case(&c->ramp, ret, c->limit.t.run)) {
+    switch (sig_chain_ramp_case(&c->ramp, &c->missed, &c->paused, ret, c->limit.t.run)) {
     case SIG_CHAIN_RAMP_FOLLOW:
-        c->slope = x - c->last;
+        if (!c->missed && !c->paused) c->slope += ((x - c->last) - c->slope) * SIG_REAL(0.5);
         c->last = x;
+        c->missed = false;
         ret = (sig_status)(ret | SIG_CHAIN_RAMP);
         break;
     case SIG_CHAIN_RAMP_BROKEN:
         d = x - c->origin;
         if (finite && d <= a0 && -d <= a0) {
+            c->ramp = c->missed = c->paused = false;
             (void)sig_limit_accept_f(&c->limit, x);
             *y = x;
             ret = SIG_CHAIN_TAKEN(ret);
         } else {
             *y = c->last;
+            ret = sig_chain_ramp_hold(&c->ramp, &c->missed, &c->paused, ret);
         }
         break;
     case SIG_CHAIN_RAMP_TRY:
@@ -162,6 +163,7 @@ static sig_status ramp_after_f(sig_chain_f *c, sig_real x, sig_real *y, sig_stat
             c->origin = c->limit.dc;
             (void)sig_limit_accept_f(&c->limit, x);
             c->ramp = true;
+            c->missed = c->paused = false;
             c->slope = d;
             c->last = x;
             *y = x;
@@ -205,7 +207,7 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->has_out = false;
     noise_gate_reset(&c->gate);
     c->slope = c->last = c->origin = c->prev_x = SIG_REAL(0.0);
-    c->ramp = false;
+    c->ramp = c->missed = c->paused = false;
     c->settled = false;
     (void)sig_noise_reset_f(&c->noise);
     set_thresholds_f(c);
@@ -338,38 +340,38 @@ static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)
 static bool ramp_before_q(sig_chain_q *c, int32_t x)
 {
     int32_t p, half, dl, dp;
+    bool looks;
     if (!c->ramp) return false;
-    p = c->last + c->slope;                     /* |last| < 2^24, |slope| < 2^25: no overflow */
+    p = c->last + (c->missed ? c->slope + c->slope : c->slope);   /* |last| < 2^24, |slope| < 2^25 */
     p = p > SIG_CODE_MAX ? SIG_CODE_MAX : (p < -SIG_CODE_MAX ? -SIG_CODE_MAX : p);
     half = c->limit.a0 >> 1;
     dl = x - c->last;
     dp = x - p;
-    if (dl <= half && -dl <= half && (dl < 0 ? -dl : dl) <= (dp < 0 ? -dp : dp)) {
-        c->ramp = false;
-        (void)sig_limit_set_ref_q(&c->limit, c->last);
-        return true;
-    }
-    (void)sig_limit_set_ref_q(&c->limit, p);
-    return false;
+    looks = dl <= half && -dl <= half && (dl < 0 ? -dl : dl) <= (dp < 0 ? -dp : dp);
+    (void)sig_limit_set_ref_q(&c->limit, looks ? c->last : p);
+    return sig_chain_ramp_stop(looks, &c->ramp, &c->missed, &c->paused);
 }
 
 static sig_status ramp_after_q(sig_chain_q *c, int32_t x, int32_t *y, sig_status ret)
 {
     int32_t d, a0 = c->limit.a0;
-    switch (sig_chain_ramp_case(&c->ramp, ret, c->limit.t.run)) {
+    switch (sig_chain_ramp_case(&c->ramp, &c->missed, &c->paused, ret, c->limit.t.run)) {
     case SIG_CHAIN_RAMP_FOLLOW:
-        c->slope = x - c->last;
+        if (!c->missed && !c->paused) c->slope += sig_asr32((x - c->last) - c->slope, 1u);   /* |.| < 2^26 */
         c->last = x;
+        c->missed = false;
         ret = (sig_status)(ret | SIG_CHAIN_RAMP);
         break;
     case SIG_CHAIN_RAMP_BROKEN:
         d = x - c->origin;
         if (d <= a0 && -d <= a0) {
+            c->ramp = c->missed = c->paused = false;
             (void)sig_limit_accept_q(&c->limit, x);
             *y = x;
             ret = SIG_CHAIN_TAKEN(ret);
         } else {
             *y = c->last;
+            ret = sig_chain_ramp_hold(&c->ramp, &c->missed, &c->paused, ret);
         }
         break;
     case SIG_CHAIN_RAMP_TRY:
@@ -378,6 +380,7 @@ static sig_status ramp_after_q(sig_chain_q *c, int32_t x, int32_t *y, sig_status
             c->origin = c->limit.dc;
             (void)sig_limit_accept_q(&c->limit, x);
             c->ramp = true;
+            c->missed = c->paused = false;
             c->slope = d;
             c->last = x;
             *y = x;
@@ -421,7 +424,7 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->has_out = false;
     noise_gate_reset(&c->gate);
     c->slope = c->last = c->origin = c->prev_x = 0;
-    c->ramp = false;
+    c->ramp = c->missed = c->paused = false;
     c->settled = false;
     (void)sig_noise_reset_q(&c->noise);
     set_thresholds_q(c);

@@ -484,7 +484,8 @@ class Chain:
         self.offset_raw, self.out_raw, self.motion_run = 0, 0, 0
         self.holdoff, self.frozen, self.rejected_prev = 0, 0, False
         self.tare_pending, self.stable, self.settled, self.has_out, self.status = False, False, False, False, OK
-        self.ramp, self.slope, self.last, self.prev_x = False, 0, 0, 0
+        self.ramp, self.missed, self.paused = False, False, False
+        self.slope, self.last, self.prev_x, self.origin = 0, 0, 0, 0
         self._set_thresholds()
 
     def _set_thresholds(self):
@@ -541,20 +542,27 @@ class Chain:
     def _ramp_before(self, x):
         """While a ramp is followed the limit judges the sample against the
         ramp's prediction (last + slope); a sample nearer the last followed
-        one than the prediction, within A0/2 of it, says the load stopped:
-        the ramp ends here (returns True) and the sample is taken."""
+        one than the prediction, within A0/2 of it, says the load may have
+        stopped: the first such sample is followed (judged against the last
+        one, the slope kept), the second in a row ends the ramp (returns
+        True) and is taken."""
         if not self.ramp:
             return False
+        step = self.slope + self.slope if self.missed else self.slope     # one sample held: two ahead
         if self.fixed:
-            p, half = clamp_code(self.last + self.slope), self.limit.a0 >> 1
+            p, half = clamp_code(self.last + step), self.limit.a0 >> 1
         else:
-            p, half = self.last + self.slope, self.limit.a0 * 0.5
+            p, half = self.last + step, self.limit.a0 * 0.5
             p = p if math.isfinite(p) else self.last
         d_last, d_pred = self._diff(x, self.last), self._diff(x, p)
         if d_last <= half and -d_last <= half and abs(d_last) <= abs(d_pred):
-            self.ramp = False
             self.limit.set_ref(self.last)
-            return True
+            if self.paused:
+                self.ramp = self.missed = self.paused = False
+                return True
+            self.paused = True
+            return False
+        self.paused = False
         self.limit.set_ref(p)
         return False
 
@@ -562,33 +570,43 @@ class Chain:
         """After the limit: a second rejection on one side that lies further out
         than the first by more than A0/2 starts a ramp (both samples moved on:
         a pour, not a glitch pair at one level); a followed ramp takes each
-        sample within A0 of its prediction.  A rejection ends the ramp: back
-        within A0 of where the ramp began, the sample is taken (a glitch pair
-        or a bump that came back); otherwise the last followed value is held.
-        Returns (y, status)."""
+        sample within A0 of its prediction, last + slope, the slope moving half
+        way to each new difference (kept across one held sample).  A rejection back within A0 of where the ramp began ends it
+        and the sample is taken (a glitch pair or a bump that came back);
+        otherwise the last followed value is held, and a second rejection in
+        a row ends the ramp.  Returns (y, status)."""
         rejected = (ret & WARN_REJECTED) != 0
         finite = self.fixed or math.isfinite(x)
         if self.ramp:
             if ret & LIMIT_RESEEDED:
-                self.ramp = False
+                self.ramp = self.missed = self.paused = False
             elif not rejected:
-                self.slope, self.last = self._diff(x, self.last), x
+                if not (self.missed or self.paused):    # the slope: half way to the last difference
+                    d = self._diff(self._diff(x, self.last), self.slope)
+                    self.slope += d >> 1 if self.fixed else d * 0.5
+                self.last, self.missed = x, False
                 ret |= CHAIN_RAMP
             else:
-                self.ramp = False
                 d = self._diff(x, self.origin) if finite else math.nan
                 if d <= self.limit.a0 and -d <= self.limit.a0:
+                    self.ramp = self.missed = self.paused = False
                     self.limit.accept(x)
                     y, ret = x, (ret & ~WARN_REJECTED) | LIMIT_RESEEDED
                 else:
                     y = self.last
+                    if self.missed:
+                        self.ramp = self.missed = self.paused = False
+                    else:
+                        self.missed = True
+                        ret |= CHAIN_RAMP
         elif rejected and finite and self.limit.run >= 2:
             half = self.limit.a0 >> 1 if self.fixed else self.limit.a0 * 0.5
             moved = self._diff(x, self.prev_x) * self.limit.side
             if moved > half:
                 self.origin = self.limit.Dc
                 self.limit.accept(x)
-                self.ramp, self.slope, self.last = True, self._diff(x, self.prev_x), x
+                self.ramp, self.missed, self.paused = True, False, False
+                self.slope, self.last = self._diff(x, self.prev_x), x
                 y, ret = x, (ret & ~WARN_REJECTED) | LIMIT_RESEEDED | CHAIN_RAMP
         if finite:
             self.prev_x = x
