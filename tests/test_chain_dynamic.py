@@ -177,3 +177,33 @@ def test_step_held_as_impulses_is_never_stable(fixed):
     assert not np.any(stable[100:112])
     assert _false_stable(out, stable, truth, sigma) == 0
     assert np.mean(stable[150:]) > 0.95
+
+
+# ---- impulses and motion told apart ------------------------------------------------
+
+@pytest.mark.parametrize("fixed", [False, True])
+def test_summary_tells_impulses_from_motion_on_any_split(fixed):
+    """Three glitches on still loads, a hand-placed step (held as impulses
+    before the lock-out takes it) and a pour: exactly the three glitch
+    samples are impulses, the step's held samples are motion; the same
+    counts whatever the blocks the status arrives in."""
+    from pysig.weigh.events import EventCounter
+    sigma = 20.0
+    truth, noise = _settled(600, sigma, 2)
+    truth[200:] += 500 * sigma
+    truth[400:] += 40 * sigma * np.minimum(np.arange(1, 201), 30)
+    x = np.rint(truth + noise)
+    for i in (100, 300, 550):
+        x[i] += 8e5
+    _, _, status = C.Chain(fixed=fixed).process(x, flags=True)
+    whole = EventCounter()
+    whole.update(status)
+    counts = whole.finish()
+    assert counts["impulses"] == 3
+    held = np.flatnonzero(status[195:215] & C.WARN_REJECTED)
+    assert held.size >= 1 and counts["motion_samples"] >= held.size + 30
+    for cuts in ([201], [1, 2, 3, 201, 202], list(range(0, 600, 7))):
+        c = EventCounter()
+        for a, b in zip([0] + cuts, cuts + [600]):
+            c.update(status[a:b])
+        assert c.finish() == counts
