@@ -61,7 +61,10 @@
  *    Stable only when the output is backed by the samples: the stability
  *    detector's verdict is reported only on a sample that was not replaced,
  *    held, re-seeded, a motion restart or a ramp sample, with a full window
- *    since the last restart, no motion run under way, the sample within
+ *    since the last restart, no motion run under way, no drift (the output
+ *    moved by at most sigma over the last block of `window` samples, blocks
+ *    counted from the first full window after a restart: a load still
+ *    creeping or swinging out), the sample within
  *    3 sigma of the output (near_band) and the window's trimmed mean within
  *    1 sigma of it (a load that has begun to move faster than the output
  *    follows).
@@ -87,7 +90,8 @@
  * skips (restart, re-seed, hold-off, a motion run, an impulse) and down by
  * one on each other sample (between 0 and twice this); from this value on
  * the estimator sees every sample, with its warm-up steps again: so much
- * motion is noise, and a lasting rise in noise cannot freeze the estimate. */
+ * motion is noise, and a lasting rise in noise cannot freeze the estimate.
+ * A ramp sample (a pour) is skipped and leaves the count as it is. */
 #define SIG_CHAIN_NOISE_FROZEN_MAX 64u
 
 typedef struct {
@@ -149,6 +153,9 @@ typedef struct {
     sig_real near_band;     /* 3 sigma */
     bool ramp, missed, paused;   /* following a ramp; its last sample held; it looked stopped */
     bool settled;           /* the stability detector's own verdict */
+    sig_real anchor;        /* the output at the last block's start */
+    uint8_t drift_age;      /* samples into the block */
+    bool drifting;          /* the last block moved the output by more than sigma */
 } sig_chain_f;
 
 typedef struct {
@@ -167,6 +174,9 @@ typedef struct {
     int32_t slope, last, origin, prev_x;   /* codes (|slope| <= 2^25) */
     int32_t near_band;      /* Q24.7 */
     bool ramp, missed, paused, settled;
+    int32_t anchor;         /* Q24.7 */
+    uint8_t drift_age;
+    bool drifting;
 } sig_chain_q;
 
 /* The weighing paper's parameters in kg: Q 1e-7, R 0.05, x0 1, P0 10, N 12, A0 2 kg

@@ -80,8 +80,10 @@ static void set_thresholds_f(sig_chain_f *c)
         sig_chain_gate *g_ = &(c)->gate;                                             \
         if (event_) g_->holdoff = (c)->ap.n;                                         \
         else if (g_->holdoff > 0u) g_->holdoff--;                                    \
-        if (!event_ && !rejected_ && !g_->rejected_prev && g_->holdoff == 0u         \
-            && (c)->motion_run == 0u) {                                              \
+        if (((ret) & SIG_CHAIN_RAMP) != 0) {                                         \
+            (update) = false;                   /* a pour is never noise */          \
+        } else if (!event_ && !rejected_ && !g_->rejected_prev && g_->holdoff == 0u  \
+                   && (c)->motion_run == 0u) {                                       \
             if (g_->frozen > 0u) g_->frozen--;                                       \
             (update) = true;                                                         \
         } else {                                                                     \
@@ -209,6 +211,9 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->slope = c->last = c->origin = c->prev_x = SIG_REAL(0.0);
     c->ramp = c->missed = c->paused = false;
     c->settled = false;
+    c->anchor = SIG_REAL(0.0);
+    c->drift_age = 0u;
+    c->drifting = true;
     (void)sig_noise_reset_f(&c->noise);
     set_thresholds_f(c);
     return SIG_OK;
@@ -258,8 +263,13 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     st = sig_stable_step_f(&c->st, xk, &stab);
     if (st < 0) return st;
     c->settled = stab;
+    if (c->noise_auto && sig_chain_drift_due(c->ap.count < c->ap.n, &c->drift_age, c->ap.n, &c->drifting)) {
+        if (c->ap.count == c->ap.n)
+            c->drifting = xk - c->anchor > c->noise.sigma || c->anchor - xk > c->noise.sigma;
+        c->anchor = xk;
+    }
     if (c->noise_auto && stab)
-        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run,
+        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting,
                                 y - xk <= c->near_band && xk - y <= c->near_band
                                 && m - xk <= c->noise.sigma && xk - m <= c->noise.sigma);
     if (stab && sig_chain_offset_f(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
@@ -426,6 +436,9 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->slope = c->last = c->origin = c->prev_x = 0;
     c->ramp = c->missed = c->paused = false;
     c->settled = false;
+    c->anchor = 0;
+    c->drift_age = 0u;
+    c->drifting = true;
     (void)sig_noise_reset_q(&c->noise);
     set_thresholds_q(c);
     return SIG_OK;
@@ -472,8 +485,12 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
     (void)sig_kalman1_step_q(&c->kf, m7, &xk);
     (void)sig_stable_step_q(&c->st, xk, &stab);
     c->settled = stab;
+    if (c->noise_auto && sig_chain_drift_due(c->ap.count < c->ap.n, &c->drift_age, c->ap.n, &c->drifting)) {
+        if (c->ap.count == c->ap.n) c->drifting = sig_abs32_sat(sig_sat_sub32(xk, c->anchor)) > c->noise.sigma;
+        c->anchor = xk;
+    }
     if (c->noise_auto && stab)
-        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run,
+        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting,
                                 sig_abs32_sat(sig_sat_sub32(codes_to_q7(y), xk)) <= c->near_band
                                 && sig_abs32_sat(sig_sat_sub32(m7, xk)) <= c->noise.sigma);
     if (stab && sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))

@@ -86,13 +86,30 @@ SIG_CHAIN_STAGE sig_status sig_chain_ramp_hold(bool *on, bool *missed, bool *pau
  * a re-seed (window and Kalman restart) */
 #define SIG_CHAIN_TAKEN(ret) ((sig_status)(((ret) & ~SIG_WARN_REJECTED) | SIG_LIMIT_RESEEDED))
 
+/* noise_auto: the output's drift over blocks of n samples (sig_chain.h).
+ * True when the caller sets the anchor to the output: on every sample while
+ * the window refills (drifting until a block is seen), and at each block's
+ * end (the caller first sets `drifting` from the block's change). */
+SIG_CHAIN_STAGE bool sig_chain_drift_due(bool refilling, uint8_t *age, uint8_t n, bool *drifting)
+{
+    if (refilling) {
+        *age = 0u;
+        *drifting = true;
+        return true;
+    }
+    if (++*age < n) return false;
+    *age = 0u;
+    return true;
+}
+
 /* noise_auto: the stability detector's verdict counts only when the output
  * is backed by the samples (sig_chain.h); `near`: the sample and the window
  * mean near the output, tested by the caller in its own format. */
-SIG_CHAIN_STAGE bool sig_chain_backed(sig_status ret, uint8_t held, uint8_t n, uint8_t motion_run, bool near)
+SIG_CHAIN_STAGE bool sig_chain_backed(sig_status ret, uint8_t held, uint8_t n, uint8_t motion_run,
+                                      bool drifting, bool near)
 {
     return (ret & (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED | SIG_CHAIN_MOTION | SIG_CHAIN_RAMP)) == 0
-        && held == n && motion_run == 0u && near;
+        && held == n && motion_run == 0u && !drifting && near;
 }
 
 /* Tare and zero tracking on a stable sample xk: a pending tare takes xk as

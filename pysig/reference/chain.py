@@ -486,6 +486,7 @@ class Chain:
         self.tare_pending, self.stable, self.settled, self.has_out, self.status = False, False, False, False, OK
         self.ramp, self.missed, self.paused = False, False, False
         self.slope, self.last, self.prev_x, self.origin = 0, 0, 0, 0
+        self.anchor, self.drift_age, self.drifting = 0, 0, True
         self._set_thresholds()
 
     def _set_thresholds(self):
@@ -512,7 +513,8 @@ class Chain:
         restart or re-seed, then `window` samples of hold-off, or a motion run
         under way).  A count goes up on each skipped sample and down on each
         other one; from NOISE_FROZEN_MAX on, so much motion is noise and the
-        estimator sees every sample, with its warm-up steps again."""
+        estimator sees every sample, with its warm-up steps again.  A ramp
+        sample is never noise: skipped, the count left as it is."""
         event = (ret & (CHAIN_MOTION | LIMIT_RESEEDED | CHAIN_RAMP)) != 0
         rejected = (ret & WARN_REJECTED) != 0
         if event:
@@ -521,7 +523,9 @@ class Chain:
             self.holdoff -= 1
         quiet = not (event or rejected or self.rejected_prev) and self.holdoff == 0 and self.motion_run == 0
         self.rejected_prev = rejected
-        if quiet:
+        if ret & CHAIN_RAMP:
+            update = False
+        elif quiet:
             self.frozen, update = max(self.frozen - 1, 0), True
         else:
             self.frozen = min(self.frozen + 1, 2 * NOISE_FROZEN_MAX)
@@ -612,16 +616,31 @@ class Chain:
             self.prev_x = x
         return y, ret
 
+    def _drift(self, xk):
+        """auto mode: the output's drift over blocks of `window` samples from
+        the first full window after a restart; `drifting` while the last block
+        moved it by more than sigma (a load still creeping or swinging out
+        slower than the stability step sees), and until one block is seen."""
+        if self.ap.count < self.ap.n:
+            self.anchor, self.drift_age, self.drifting = xk, 0, True
+            return
+        self.drift_age += 1
+        if self.drift_age >= self.ap.n:
+            d = self._diff(xk, self.anchor)
+            self.drifting = (min(abs(d), INT32_MAX) if self.fixed else abs(d)) > self.noise.sigma
+            self.anchor, self.drift_age = xk, 0
+
     def _backed(self, ret, y_k, m_k, xk):
         """auto mode: the stability detector's verdict counts only when the
         output is backed by the samples - none replaced, held, re-seeded or
         followed as a ramp on this sample, a full window since the last
-        restart, no motion run under way, the sample within 3 sigma of the
-        output and the window's trimmed mean within 1 sigma of it (a load
-        that has begun to move, faster than the output follows)."""
+        restart and no drift in the last block (_drift), no motion run under
+        way, the sample within 3 sigma of the output and the window's trimmed
+        mean within 1 sigma of it (a load that has begun to move, faster than
+        the output follows)."""
         if ret & (WARN_REJECTED | LIMIT_RESEEDED | CHAIN_MOTION | CHAIN_RAMP):
             return False
-        if self.ap.count < self.ap.n or self.motion_run:
+        if self.ap.count < self.ap.n or self.motion_run or self.drifting:
             return False
         d, e = self._diff(y_k, xk), self._diff(m_k, xk)
         if self.fixed:
@@ -671,6 +690,8 @@ class Chain:
             self.kf.reset()             # settling: the window's trimmed mean is the estimate
         xk = self.kf._step(m_k)
         self.settled = stab = self.st._step(xk)
+        if self.noise_auto:
+            self._drift(xk)
         if self.noise_auto and stab:
             stab = self._backed(ret, y * 128 if self.fixed else y, m_k, xk)
         if stab:
