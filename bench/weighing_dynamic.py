@@ -23,7 +23,8 @@ SimpleKalmanFilter as peers); only the chains have a stable flag.
 Figures per run (worst over the seeds):
   false_stable        samples flagged stable while the output is more than
                       3 sigma from what the cell carries (load + bump force +
-                      the creep the step settles to; goal 0)
+                      the creep the step settles to; goal 0); also counted
+                      beyond 6 sigma
   lag_p50, lag_p95    ramp lag in samples over the pours' samples:
                       (truth - output) / slope, per pour slope (goal <= 1)
   glitch_excursion    largest |output - output of the same run without
@@ -116,7 +117,9 @@ def run_config(config, x, sigma):
 
 def run_metrics(out, stable, out_clean, truth, sigma, t, events):
     rate = 1.0 / (t[1] - t[0])
-    m = {"false_stable": None if stable is None else int(np.count_nonzero(stable & (np.abs(out - truth) > 3 * sigma)))}
+    off = np.abs(out - truth)
+    m = {"false_stable": None if stable is None else int(np.count_nonzero(stable & (off > 3 * sigma))),
+         "false_stable_6": None if stable is None else int(np.count_nonzero(stable & (off > 6 * sigma)))}
     lags = {}
     for t0, dur, dkg in events["pours"]:
         idx = np.flatnonzero((t > t0) & (t <= t0 + dur))
@@ -162,6 +165,7 @@ def merge(config, unit, sigma_rel, glitch_rate, rate, ms):
     settle = [m["settle_s"] for m in ms]
     return {"config": config, "unit": unit, "sigma_rel": sigma_rel, "glitch_rate": glitch_rate, "rate_hz": rate,
             "false_stable": None if fs[0] is None else max(fs),
+            "false_stable_6_sigma": None if fs[0] is None else max(m["false_stable_6"] for m in ms),
             "lag_by_slope_sigma": {k: {"p50": v[0], "p95": v[1]} for k, v in lag.items()},
             "glitch_excursion_rel": max(m["glitch_excursion"] for m in ms),
             "settle_s": None if any(s is None for s in settle) else max(settle),
@@ -205,9 +209,10 @@ def real_rows(csv_path):
     for ch in recording.UNLOADED:
         x = d[f"{ch}_counts"]
         glitches = recording.glitch_indices(x)
-        truth = median_filter(recording.deglitched(x, glitches), size=5, mode="nearest")
+        clean = recording.deglitched(x, glitches)
+        truth = median_filter(clean, size=5, mode="nearest")
         still = recording.find_plateaus(x, recording.RATE_HZ)
-        sigma = float(np.median([np.std(x[p.start:p.stop]) for p in still]))
+        sigma = float(np.median([np.std(clean[p.start:p.stop]) for p in still]))
         out, stable, status = Chain().process(x, flags=True)
         known = np.ones(x.size, dtype=bool)
         known[glitches] = False
@@ -233,6 +238,8 @@ def summary(rows):
         out[config] = {
             "false_stable_total": None if rs[0]["false_stable"] is None else sum(r["false_stable"] for r in rs),
             "runs_with_false_stable": None if rs[0]["false_stable"] is None else sum(r["false_stable"] > 0 for r in rs),
+            "false_stable_6_sigma_total": (None if rs[0]["false_stable"] is None
+                                           else sum(r["false_stable_6_sigma"] for r in rs)),
             "lag_p95_worst_slope_ge_5_sigma": max((v["p95"] for v in fast), default=None),
             "lag_p50_worst_slope_ge_5_sigma": max((v["p50"] for v in fast), default=None),
             "lag_p95_worst_slope_lt_5_sigma": max((v["p95"] for v in slow), default=None),
@@ -252,12 +259,13 @@ def fmt(v, nd=2):
 def print_tables(res):
     for name in ("grid", "far"):
         print(f"\n{name}: per configuration, over every cell")
-        head = ("config", "false stable (runs)", "lag p50/p95, slopes >= 5 sigma/sample",
+        head = ("config", "false stable (runs)", "beyond 6 sigma", "lag p50/p95, slopes >= 5 sigma/sample",
                 "lag p95, slopes < 5 sigma/sample", "glitch excursion (sigma)", "settle worst (s)")
         print(" | ".join(head))
         print(" | ".join("---" for _ in head))
         for config, s in res["summary"][name].items():
             print(" | ".join([config, f"{fmt(s['false_stable_total'])} ({fmt(s['runs_with_false_stable'])})",
+                              fmt(s["false_stable_6_sigma_total"]),
                               f"{fmt(s['lag_p50_worst_slope_ge_5_sigma'])} / {fmt(s['lag_p95_worst_slope_ge_5_sigma'])}",
                               fmt(s["lag_p95_worst_slope_lt_5_sigma"]), fmt(s["glitch_excursion_rel_worst"]),
                               fmt(s["settle_s_worst"], 1) + (f" ({s['runs_never_settled']} never)"

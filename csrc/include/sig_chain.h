@@ -45,7 +45,8 @@
  *    the float form is scale invariant (input * c -> output * c).
  *    Ramps (a pour is a load change, not a glitch): when the limit rejects
  *    a second sample on one side and it lies further out than the first by
- *    more than A0/2, both moved on: the sample is taken (status
+ *    more than A0/2 (and the two steps out, Dc to the first and the first to
+ *    the second, within a factor 4 of each other), both moved on: it is taken (status
  *    SIG_LIMIT_RESEEDED | SIG_CHAIN_RAMP) and the load is followed as a
  *    ramp - each sample within A0 of last + slope is the output (the window
  *    holds it alone; SIG_CHAIN_RAMP), the slope moving half way to each new
@@ -55,7 +56,10 @@
  *    ramp (the load stopped; a restart, SIG_CHAIN_MOTION).
  *    A rejected sample back within A0 of where the ramp began ends it and is
  *    taken (a glitch pair or a bump that came back, SIG_LIMIT_RESEEDED);
- *    otherwise the last followed value is held, the ramp predicted two
+ *    rejected before any sample was followed, the start was a glitch pair:
+ *    the level before it is held and the window restarts from it
+ *    (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED); otherwise the last followed
+ *    value is held, the ramp predicted two
  *    slopes on (one glitch in a pour), and a second rejection in a row ends
  *    it.  Single glitches and pairs at one level stay rejected.
  *    Stable only when the output is backed by the samples: the stability
@@ -152,6 +156,7 @@ typedef struct {
     sig_real prev_x;        /* last finite sample */
     sig_real near_band;     /* 3 sigma */
     bool ramp, missed, paused;   /* following a ramp; its last sample held; it looked stopped */
+    bool followed;          /* a sample followed since the ramp began */
     bool settled;           /* the stability detector's own verdict */
     sig_real anchor;        /* the output at the last block's start */
     uint8_t drift_age;      /* samples into the block */
@@ -173,7 +178,7 @@ typedef struct {
     sig_noise_q noise;
     int32_t slope, last, origin, prev_x;   /* codes (|slope| <= 2^25) */
     int32_t near_band;      /* Q24.7 */
-    bool ramp, missed, paused, settled;
+    bool ramp, missed, paused, followed, settled;
     int32_t anchor;         /* Q24.7 */
     uint8_t drift_age;
     bool drifting;

@@ -139,12 +139,13 @@ static bool ramp_before_f(sig_chain_f *c, sig_real x)
 static sig_status ramp_after_f(sig_chain_f *c, sig_real x, sig_real *y, sig_status ret)
 {
     bool finite = sig_real_isfinite(x);
-    sig_real d, a0 = c->limit.a0;
+    sig_real d, moved, before, a0 = c->limit.a0;
     switch (sig_chain_ramp_case(&c->ramp, &c->missed, &c->paused, ret, c->limit.t.run)) {
     case SIG_CHAIN_RAMP_FOLLOW:
         if (!c->missed && !c->paused) c->slope += ((x - c->last) - c->slope) * SIG_REAL(0.5);
         c->last = x;
         c->missed = false;
+        c->followed = true;
         ret = (sig_status)(ret | SIG_CHAIN_RAMP);
         break;
     case SIG_CHAIN_RAMP_BROKEN:
@@ -154,6 +155,11 @@ static sig_status ramp_after_f(sig_chain_f *c, sig_real x, sig_real *y, sig_stat
             (void)sig_limit_accept_f(&c->limit, x);
             *y = x;
             ret = SIG_CHAIN_TAKEN(ret);
+        } else if (!c->followed) {              /* the start was a glitch pair: back to before it */
+            c->ramp = c->missed = c->paused = false;
+            (void)sig_limit_set_ref_f(&c->limit, c->origin);
+            *y = c->origin;
+            ret = (sig_status)(ret | SIG_LIMIT_RESEEDED);
         } else {
             *y = c->last;
             ret = sig_chain_ramp_hold(&c->ramp, &c->missed, &c->paused, ret);
@@ -161,11 +167,14 @@ static sig_status ramp_after_f(sig_chain_f *c, sig_real x, sig_real *y, sig_stat
         break;
     case SIG_CHAIN_RAMP_TRY:
         d = x - c->prev_x;
-        if (finite && (c->limit.t.side > 0 ? d : -d) > a0 * SIG_REAL(0.5)) {
+        moved = c->limit.t.side > 0 ? d : -d;
+        before = c->limit.t.side > 0 ? c->prev_x - c->limit.dc : c->limit.dc - c->prev_x;
+        if (finite && moved > a0 * SIG_REAL(0.5) && moved * SIG_REAL(4.0) >= before
+            && moved <= before * SIG_REAL(4.0)) {
             c->origin = c->limit.dc;
             (void)sig_limit_accept_f(&c->limit, x);
             c->ramp = true;
-            c->missed = c->paused = false;
+            c->missed = c->paused = c->followed = false;
             c->slope = d;
             c->last = x;
             *y = x;
@@ -209,7 +218,7 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->has_out = false;
     noise_gate_reset(&c->gate);
     c->slope = c->last = c->origin = c->prev_x = SIG_REAL(0.0);
-    c->ramp = c->missed = c->paused = false;
+    c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = SIG_REAL(0.0);
     c->drift_age = 0u;
@@ -364,12 +373,13 @@ static bool ramp_before_q(sig_chain_q *c, int32_t x)
 
 static sig_status ramp_after_q(sig_chain_q *c, int32_t x, int32_t *y, sig_status ret)
 {
-    int32_t d, a0 = c->limit.a0;
+    int32_t d, moved, before, a0 = c->limit.a0;
     switch (sig_chain_ramp_case(&c->ramp, &c->missed, &c->paused, ret, c->limit.t.run)) {
     case SIG_CHAIN_RAMP_FOLLOW:
         if (!c->missed && !c->paused) c->slope += sig_asr32((x - c->last) - c->slope, 1u);   /* |.| < 2^26 */
         c->last = x;
         c->missed = false;
+        c->followed = true;
         ret = (sig_status)(ret | SIG_CHAIN_RAMP);
         break;
     case SIG_CHAIN_RAMP_BROKEN:
@@ -379,18 +389,25 @@ static sig_status ramp_after_q(sig_chain_q *c, int32_t x, int32_t *y, sig_status
             (void)sig_limit_accept_q(&c->limit, x);
             *y = x;
             ret = SIG_CHAIN_TAKEN(ret);
+        } else if (!c->followed) {
+            c->ramp = c->missed = c->paused = false;
+            (void)sig_limit_set_ref_q(&c->limit, c->origin);
+            *y = c->origin;
+            ret = (sig_status)(ret | SIG_LIMIT_RESEEDED);
         } else {
             *y = c->last;
             ret = sig_chain_ramp_hold(&c->ramp, &c->missed, &c->paused, ret);
         }
         break;
     case SIG_CHAIN_RAMP_TRY:
-        d = x - c->prev_x;
-        if ((c->limit.t.side > 0 ? d : -d) > (a0 >> 1)) {
+        d = x - c->prev_x;                      /* codes: |.| < 2^25, times 4 < 2^27 */
+        moved = c->limit.t.side > 0 ? d : -d;
+        before = c->limit.t.side > 0 ? c->prev_x - c->limit.dc : c->limit.dc - c->prev_x;
+        if (moved > (a0 >> 1) && moved * 4 >= before && moved <= before * 4) {
             c->origin = c->limit.dc;
             (void)sig_limit_accept_q(&c->limit, x);
             c->ramp = true;
-            c->missed = c->paused = false;
+            c->missed = c->paused = c->followed = false;
             c->slope = d;
             c->last = x;
             *y = x;
@@ -434,7 +451,7 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->has_out = false;
     noise_gate_reset(&c->gate);
     c->slope = c->last = c->origin = c->prev_x = 0;
-    c->ramp = c->missed = c->paused = false;
+    c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = 0;
     c->drift_age = 0u;

@@ -484,7 +484,7 @@ class Chain:
         self.offset_raw, self.out_raw, self.motion_run = 0, 0, 0
         self.holdoff, self.frozen, self.rejected_prev = 0, 0, False
         self.tare_pending, self.stable, self.settled, self.has_out, self.status = False, False, False, False, OK
-        self.ramp, self.missed, self.paused = False, False, False
+        self.ramp, self.missed, self.paused, self.followed = False, False, False, False
         self.slope, self.last, self.prev_x, self.origin = 0, 0, 0, 0
         self.anchor, self.drift_age, self.drifting = 0, 0, True
         self._set_thresholds()
@@ -573,12 +573,16 @@ class Chain:
     def _ramp_after(self, x, y, ret):
         """After the limit: a second rejection on one side that lies further out
         than the first by more than A0/2 starts a ramp (both samples moved on:
-        a pour, not a glitch pair at one level); a followed ramp takes each
+        a pour, not a glitch pair at one level; and the two steps out, from Dc
+        to the first and from the first to the second, within a factor 4 of
+        each other: not a glitch on a load step); a followed ramp takes each
         sample within A0 of its prediction, last + slope, the slope moving half
         way to each new difference (kept across one held sample).  A rejection back within A0 of where the ramp began ends it
         and the sample is taken (a glitch pair or a bump that came back);
-        otherwise the last followed value is held, and a second rejection in
-        a row ends the ramp.  Returns (y, status)."""
+        otherwise, if no sample has been followed since the start, the start
+        was a glitch pair: the level before it is held and the window starts
+        again from it (a re-seed); else the last followed value is held, and a
+        second rejection in a row ends the ramp.  Returns (y, status)."""
         rejected = (ret & WARN_REJECTED) != 0
         finite = self.fixed or math.isfinite(x)
         if self.ramp:
@@ -588,7 +592,7 @@ class Chain:
                 if not (self.missed or self.paused):    # the slope: half way to the last difference
                     d = self._diff(self._diff(x, self.last), self.slope)
                     self.slope += d >> 1 if self.fixed else d * 0.5
-                self.last, self.missed = x, False
+                self.last, self.missed, self.followed = x, False, True
                 ret |= CHAIN_RAMP
             else:
                 d = self._diff(x, self.origin) if finite else math.nan
@@ -596,6 +600,10 @@ class Chain:
                     self.ramp = self.missed = self.paused = False
                     self.limit.accept(x)
                     y, ret = x, (ret & ~WARN_REJECTED) | LIMIT_RESEEDED
+                elif not self.followed:
+                    self.ramp = self.missed = self.paused = False
+                    self.limit.set_ref(self.origin)
+                    y, ret = self.origin, ret | LIMIT_RESEEDED
                 else:
                     y = self.last
                     if self.missed:
@@ -606,10 +614,11 @@ class Chain:
         elif rejected and finite and self.limit.run >= 2:
             half = self.limit.a0 >> 1 if self.fixed else self.limit.a0 * 0.5
             moved = self._diff(x, self.prev_x) * self.limit.side
-            if moved > half:
+            before = self._diff(self.prev_x, self.limit.Dc) * self.limit.side
+            if moved > half and moved * 4 >= before and moved <= before * 4:
                 self.origin = self.limit.Dc
                 self.limit.accept(x)
-                self.ramp, self.missed, self.paused = True, False, False
+                self.ramp, self.missed, self.paused, self.followed = True, False, False, False
                 self.slope, self.last = self._diff(x, self.prev_x), x
                 y, ret = x, (ret & ~WARN_REJECTED) | LIMIT_RESEEDED | CHAIN_RAMP
         if finite:
