@@ -56,7 +56,8 @@
  *    ramp (the load stopped; a restart, SIG_CHAIN_MOTION).
  *    A rejected sample back within A0 of where the ramp began ends it and is
  *    taken (a glitch pair or a bump that came back, SIG_LIMIT_RESEEDED);
- *    rejected before any sample was followed, the start was a glitch pair:
+ *    rejected before any sample was followed and nearer that level than
+ *    the prediction, the start was a glitch pair:
  *    the level before it is held and the window restarts from it
  *    (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED); otherwise the last followed
  *    value is held, the ramp predicted two
@@ -153,6 +154,7 @@ typedef struct {
     sig_noise_f noise;
     /* noise_auto: the ramp follower and the backing of `stable` (above) */
     sig_real slope, last, origin;   /* per-sample slope, last followed value, Dc before the ramp */
+    sig_real pred;          /* the ramp's prediction for this sample */
     sig_real prev_x;        /* last finite sample */
     sig_real near_band;     /* 3 sigma */
     bool ramp, missed, paused;   /* following a ramp; its last sample held; it looked stopped */
@@ -177,6 +179,7 @@ typedef struct {
     sig_chain_gate gate;
     sig_noise_q noise;
     int32_t slope, last, origin, prev_x;   /* codes (|slope| <= 2^25) */
+    int32_t pred;           /* codes */
     int32_t near_band;      /* Q24.7 */
     bool ramp, missed, paused, followed, settled;
     int32_t anchor;         /* Q24.7 */

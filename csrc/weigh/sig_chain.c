@@ -128,6 +128,7 @@ static bool ramp_before_f(sig_chain_f *c, sig_real x)
     dl = x - c->last;
     dp = x - p;
     looks = dl <= half && -dl <= half && (dl < SIG_REAL(0.0) ? -dl : dl) <= (dp < SIG_REAL(0.0) ? -dp : dp);
+    c->pred = p;
     (void)sig_limit_set_ref_f(&c->limit, looks ? c->last : p);
     return sig_chain_ramp_stop(looks, &c->ramp, &c->missed, &c->paused);
 }
@@ -155,7 +156,8 @@ static sig_status ramp_after_f(sig_chain_f *c, sig_real x, sig_real *y, sig_stat
             (void)sig_limit_accept_f(&c->limit, x);
             *y = x;
             ret = SIG_CHAIN_TAKEN(ret);
-        } else if (!c->followed) {              /* the start was a glitch pair: back to before it */
+        } else if (!c->followed && (x - c->pred < SIG_REAL(0.0) ? c->pred - x : x - c->pred)
+                                   > (d < SIG_REAL(0.0) ? -d : d)) {   /* the start was a glitch pair */
             c->ramp = c->missed = c->paused = false;
             (void)sig_limit_set_ref_f(&c->limit, c->origin);
             *y = c->origin;
@@ -217,7 +219,7 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->stable = false;
     c->has_out = false;
     noise_gate_reset(&c->gate);
-    c->slope = c->last = c->origin = c->prev_x = SIG_REAL(0.0);
+    c->slope = c->last = c->origin = c->prev_x = c->pred = SIG_REAL(0.0);
     c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = SIG_REAL(0.0);
@@ -367,6 +369,7 @@ static bool ramp_before_q(sig_chain_q *c, int32_t x)
     dl = x - c->last;
     dp = x - p;
     looks = dl <= half && -dl <= half && (dl < 0 ? -dl : dl) <= (dp < 0 ? -dp : dp);
+    c->pred = p;
     (void)sig_limit_set_ref_q(&c->limit, looks ? c->last : p);
     return sig_chain_ramp_stop(looks, &c->ramp, &c->missed, &c->paused);
 }
@@ -389,7 +392,7 @@ static sig_status ramp_after_q(sig_chain_q *c, int32_t x, int32_t *y, sig_status
             (void)sig_limit_accept_q(&c->limit, x);
             *y = x;
             ret = SIG_CHAIN_TAKEN(ret);
-        } else if (!c->followed) {
+        } else if (!c->followed && (x - c->pred < 0 ? c->pred - x : x - c->pred) > (d < 0 ? -d : d)) {
             c->ramp = c->missed = c->paused = false;
             (void)sig_limit_set_ref_q(&c->limit, c->origin);
             *y = c->origin;
@@ -450,7 +453,7 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->stable = false;
     c->has_out = false;
     noise_gate_reset(&c->gate);
-    c->slope = c->last = c->origin = c->prev_x = 0;
+    c->slope = c->last = c->origin = c->prev_x = c->pred = 0;
     c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = 0;

@@ -485,7 +485,7 @@ class Chain:
         self.holdoff, self.frozen, self.rejected_prev = 0, 0, False
         self.tare_pending, self.stable, self.settled, self.has_out, self.status = False, False, False, False, OK
         self.ramp, self.missed, self.paused, self.followed = False, False, False, False
-        self.slope, self.last, self.prev_x, self.origin = 0, 0, 0, 0
+        self.slope, self.last, self.prev_x, self.origin, self.pred = 0, 0, 0, 0, 0
         self.anchor, self.drift_age, self.drifting = 0, 0, True
         self._set_thresholds()
 
@@ -567,6 +567,7 @@ class Chain:
             self.paused = True
             return False
         self.paused = False
+        self.pred = p
         self.limit.set_ref(p)
         return False
 
@@ -579,7 +580,8 @@ class Chain:
         sample within A0 of its prediction, last + slope, the slope moving half
         way to each new difference (kept across one held sample).  A rejection back within A0 of where the ramp began ends it
         and the sample is taken (a glitch pair or a bump that came back);
-        otherwise, if no sample has been followed since the start, the start
+        otherwise, if no sample has been followed since the start and the
+        sample is nearer where the ramp began than its prediction, the start
         was a glitch pair: the level before it is held and the window starts
         again from it (a re-seed); else the last followed value is held, and a
         second rejection in a row ends the ramp.  Returns (y, status)."""
@@ -600,7 +602,7 @@ class Chain:
                     self.ramp = self.missed = self.paused = False
                     self.limit.accept(x)
                     y, ret = x, (ret & ~WARN_REJECTED) | LIMIT_RESEEDED
-                elif not self.followed:
+                elif not self.followed and abs(self._diff(x, self.pred)) > abs(d):
                     self.ramp = self.missed = self.paused = False
                     self.limit.set_ref(self.origin)
                     y, ret = self.origin, ret | LIMIT_RESEEDED
