@@ -49,11 +49,11 @@ import numpy as np
 from scipy.ndimage import median_filter
 
 from pysig.io import atomic_output
-from pysig.sim.loadcell import LoadCellParams, simulate
-from pysig.weigh import recording
-from pysig.weigh.chain import Chain
-from pysig.weigh.events import EventCounter
-from pysig.weigh.scale import settle_index
+from pysig.sim import LoadCellParams
+from pysig.sim import simulate_loadcell as simulate
+from pysig.weigh import Chain, EventCounter
+from pysig.weigh import _recording as recording
+from pysig.weigh._calibration import settle_index
 
 import weighing_defaults as wd
 
