@@ -113,80 +113,102 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
     return sig_noise_at_floor_f(&c->noise) ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
 }
 
-/* noise_auto, before the limit: while a ramp is followed the limit judges
- * the sample against last + slope; a sample within A0/2 of the last
- * followed one and nearer it than the prediction ends the ramp (returns
- * true; the limit then takes it). */
+/* noise_auto: the ramp follower (sig_chain.h), written once as macros over
+ * either chain (the fields have the same names in both; like NOISE_GATE).
+ * The caller's numeric form comes in as T (the type), ZERO, HALF(v) (v / 2:
+ * a multiply or a floor shift), FINITE(v), and its limit's set_ref and
+ * accept; every other operation reads the same in both forms (fixed: codes,
+ * |.| < 2^27, no overflow). */
+
+/* Before the limit: the limit judges the sample against last + slope (two
+ * slopes after a held sample), or against the last followed value when the
+ * sample looks as if the load stopped (within A0/2 of it and nearer it than
+ * the prediction); `ended` when the ramp ends here (sig_chain_ramp_stop). */
+#define RAMP_BEFORE(c, x, p, T, ZERO, HALF, SET_REF, ended) do {                       \
+        T half_ = HALF((c)->limit.a0), dl_ = (x) - (c)->last, dp_ = (x) - (p);          \
+        bool looks_ = dl_ <= half_ && -dl_ <= half_                                     \
+                      && (dl_ < ZERO ? -dl_ : dl_) <= (dp_ < ZERO ? -dp_ : dp_);        \
+        (c)->pred = (p);                                                                 \
+        (void)SET_REF(&(c)->limit, looks_ ? (c)->last : (p));                            \
+        (ended) = sig_chain_ramp_stop(looks_, &(c)->ramp, &(c)->missed, &(c)->paused);  \
+    } while (0)
+
+/* After the limit: start, follow or end a ramp; *y is the limit's output,
+ * replaced when the ramp takes the sample or holds a value.  A start needs
+ * the sample to have moved on by more than A0/2 and its two steps out (Dc to
+ * the first rejected sample, that to this one) within a factor 4. */
+#define RAMP_AFTER(c, x, y, ret, finite, T, ZERO, HALF, ACCEPT, SET_REF) do {           \
+        T d_, moved_, before_, a0_ = (c)->limit.a0;                                      \
+        switch (sig_chain_ramp_case(&(c)->ramp, &(c)->missed, &(c)->paused, (ret),       \
+                                    (c)->limit.t.run)) {                                 \
+        case SIG_CHAIN_RAMP_FOLLOW:           /* the slope: half way to the new step */  \
+            if (!(c)->missed && !(c)->paused)                                            \
+                (c)->slope += HALF(((x) - (c)->last) - (c)->slope);                      \
+            (c)->last = (x);                                                             \
+            (c)->missed = false;                                                         \
+            (c)->followed = true;                                                        \
+            (ret) = (sig_status)((ret) | SIG_CHAIN_RAMP);                                \
+            break;                                                                       \
+        case SIG_CHAIN_RAMP_BROKEN:                                                      \
+            d_ = (x) - (c)->origin;                                                      \
+            moved_ = (x) - (c)->pred;                                                    \
+            if ((finite) && d_ <= a0_ && -d_ <= a0_) {        /* came back: taken */     \
+                (c)->ramp = (c)->missed = (c)->paused = false;                           \
+                (void)ACCEPT(&(c)->limit, (x));                                          \
+                *(y) = (x);                                                              \
+                (ret) = SIG_CHAIN_TAKEN(ret);                                            \
+            } else if (!(c)->followed                         /* a glitch pair */        \
+                       && (moved_ < ZERO ? -moved_ : moved_) > (d_ < ZERO ? -d_ : d_)) { \
+                (c)->ramp = (c)->missed = (c)->paused = false;                           \
+                (void)SET_REF(&(c)->limit, (c)->origin);                                 \
+                *(y) = (c)->origin;                                                      \
+                (ret) = (sig_status)((ret) | SIG_LIMIT_RESEEDED);                        \
+            } else {                                                                     \
+                *(y) = (c)->last;                                                        \
+                (ret) = sig_chain_ramp_hold(&(c)->ramp, &(c)->missed, &(c)->paused, (ret)); \
+            }                                                                            \
+            break;                                                                       \
+        case SIG_CHAIN_RAMP_TRY:                                                         \
+            d_ = (x) - (c)->prev_x;                                                      \
+            moved_ = (c)->limit.t.side > 0 ? d_ : -d_;                                   \
+            before_ = (c)->limit.t.side > 0 ? (c)->prev_x - (c)->limit.dc                \
+                                            : (c)->limit.dc - (c)->prev_x;               \
+            if ((finite) && moved_ > HALF(a0_) && 4 * moved_ >= before_                  \
+                && moved_ <= 4 * before_) {                                              \
+                (c)->origin = (c)->limit.dc;                                             \
+                (void)ACCEPT(&(c)->limit, (x));                                          \
+                (c)->ramp = true;                                                        \
+                (c)->missed = (c)->paused = (c)->followed = false;                       \
+                (c)->slope = d_;                                                         \
+                (c)->last = (x);                                                         \
+                *(y) = (x);                                                              \
+                (ret) = (sig_status)(SIG_CHAIN_TAKEN(ret) | SIG_CHAIN_RAMP);             \
+            }                                                                            \
+            break;                                                                       \
+        default:                                                                         \
+            break;                                                                       \
+        }                                                                                \
+        if (finite) (c)->prev_x = (x);                                                   \
+    } while (0)
+
+#define HALF_F(v) ((v) * SIG_REAL(0.5))
+#define HALF_Q(v) sig_asr32((v), 1u)
+
 static bool ramp_before_f(sig_chain_f *c, sig_real x)
 {
-    sig_real p, half, dl, dp;
-    bool looks;
+    sig_real p;
+    bool ended;
     if (!c->ramp) return false;
-    p = c->last + (c->missed ? c->slope + c->slope : c->slope);     /* one sample held: two ahead */
+    p = c->last + (c->missed ? c->slope + c->slope : c->slope);
     if (!sig_real_isfinite(p)) p = c->last;
-    half = c->limit.a0 * SIG_REAL(0.5);
-    dl = x - c->last;
-    dp = x - p;
-    looks = dl <= half && -dl <= half && (dl < SIG_REAL(0.0) ? -dl : dl) <= (dp < SIG_REAL(0.0) ? -dp : dp);
-    c->pred = p;
-    (void)sig_limit_set_ref_f(&c->limit, looks ? c->last : p);
-    return sig_chain_ramp_stop(looks, &c->ramp, &c->missed, &c->paused);
+    RAMP_BEFORE(c, x, p, sig_real, SIG_REAL(0.0), HALF_F, sig_limit_set_ref_f, ended);
+    return ended;
 }
 
-/* noise_auto, after the limit: start, follow or end a ramp (sig_chain.h;
- * the slope moves half way to each new difference);
- * *y is the limit's output, replaced when the ramp logic takes the sample
- * or holds the last followed value. */
 static sig_status ramp_after_f(sig_chain_f *c, sig_real x, sig_real *y, sig_status ret)
 {
     bool finite = sig_real_isfinite(x);
-    sig_real d, moved, before, a0 = c->limit.a0;
-    switch (sig_chain_ramp_case(&c->ramp, &c->missed, &c->paused, ret, c->limit.t.run)) {
-    case SIG_CHAIN_RAMP_FOLLOW:
-        if (!c->missed && !c->paused) c->slope += ((x - c->last) - c->slope) * SIG_REAL(0.5);
-        c->last = x;
-        c->missed = false;
-        c->followed = true;
-        ret = (sig_status)(ret | SIG_CHAIN_RAMP);
-        break;
-    case SIG_CHAIN_RAMP_BROKEN:
-        d = x - c->origin;
-        if (finite && d <= a0 && -d <= a0) {
-            c->ramp = c->missed = c->paused = false;
-            (void)sig_limit_accept_f(&c->limit, x);
-            *y = x;
-            ret = SIG_CHAIN_TAKEN(ret);
-        } else if (!c->followed && (x - c->pred < SIG_REAL(0.0) ? c->pred - x : x - c->pred)
-                                   > (d < SIG_REAL(0.0) ? -d : d)) {   /* the start was a glitch pair */
-            c->ramp = c->missed = c->paused = false;
-            (void)sig_limit_set_ref_f(&c->limit, c->origin);
-            *y = c->origin;
-            ret = (sig_status)(ret | SIG_LIMIT_RESEEDED);
-        } else {
-            *y = c->last;
-            ret = sig_chain_ramp_hold(&c->ramp, &c->missed, &c->paused, ret);
-        }
-        break;
-    case SIG_CHAIN_RAMP_TRY:
-        d = x - c->prev_x;
-        moved = c->limit.t.side > 0 ? d : -d;
-        before = c->limit.t.side > 0 ? c->prev_x - c->limit.dc : c->limit.dc - c->prev_x;
-        if (finite && moved > a0 * SIG_REAL(0.5) && moved * SIG_REAL(4.0) >= before
-            && moved <= before * SIG_REAL(4.0)) {
-            c->origin = c->limit.dc;
-            (void)sig_limit_accept_f(&c->limit, x);
-            c->ramp = true;
-            c->missed = c->paused = c->followed = false;
-            c->slope = d;
-            c->last = x;
-            *y = x;
-            ret = (sig_status)(SIG_CHAIN_TAKEN(ret) | SIG_CHAIN_RAMP);
-        }
-        break;
-    default:
-        break;
-    }
-    if (finite) c->prev_x = x;
+    RAMP_AFTER(c, x, y, ret, finite, sig_real, SIG_REAL(0.0), HALF_F, sig_limit_accept_f, sig_limit_set_ref_f);
     return ret;
 }
 
@@ -360,67 +382,18 @@ static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)
 
 static bool ramp_before_q(sig_chain_q *c, int32_t x)
 {
-    int32_t p, half, dl, dp;
-    bool looks;
+    int32_t p;
+    bool ended;
     if (!c->ramp) return false;
     p = c->last + (c->missed ? c->slope + c->slope : c->slope);   /* |last| < 2^24, |slope| < 2^25 */
     p = p > SIG_CODE_MAX ? SIG_CODE_MAX : (p < -SIG_CODE_MAX ? -SIG_CODE_MAX : p);
-    half = c->limit.a0 >> 1;
-    dl = x - c->last;
-    dp = x - p;
-    looks = dl <= half && -dl <= half && (dl < 0 ? -dl : dl) <= (dp < 0 ? -dp : dp);
-    c->pred = p;
-    (void)sig_limit_set_ref_q(&c->limit, looks ? c->last : p);
-    return sig_chain_ramp_stop(looks, &c->ramp, &c->missed, &c->paused);
+    RAMP_BEFORE(c, x, p, int32_t, 0, HALF_Q, sig_limit_set_ref_q, ended);
+    return ended;
 }
 
 static sig_status ramp_after_q(sig_chain_q *c, int32_t x, int32_t *y, sig_status ret)
 {
-    int32_t d, moved, before, a0 = c->limit.a0;
-    switch (sig_chain_ramp_case(&c->ramp, &c->missed, &c->paused, ret, c->limit.t.run)) {
-    case SIG_CHAIN_RAMP_FOLLOW:
-        if (!c->missed && !c->paused) c->slope += sig_asr32((x - c->last) - c->slope, 1u);   /* |.| < 2^26 */
-        c->last = x;
-        c->missed = false;
-        c->followed = true;
-        ret = (sig_status)(ret | SIG_CHAIN_RAMP);
-        break;
-    case SIG_CHAIN_RAMP_BROKEN:
-        d = x - c->origin;
-        if (d <= a0 && -d <= a0) {
-            c->ramp = c->missed = c->paused = false;
-            (void)sig_limit_accept_q(&c->limit, x);
-            *y = x;
-            ret = SIG_CHAIN_TAKEN(ret);
-        } else if (!c->followed && (x - c->pred < 0 ? c->pred - x : x - c->pred) > (d < 0 ? -d : d)) {
-            c->ramp = c->missed = c->paused = false;
-            (void)sig_limit_set_ref_q(&c->limit, c->origin);
-            *y = c->origin;
-            ret = (sig_status)(ret | SIG_LIMIT_RESEEDED);
-        } else {
-            *y = c->last;
-            ret = sig_chain_ramp_hold(&c->ramp, &c->missed, &c->paused, ret);
-        }
-        break;
-    case SIG_CHAIN_RAMP_TRY:
-        d = x - c->prev_x;                      /* codes: |.| < 2^25, times 4 < 2^27 */
-        moved = c->limit.t.side > 0 ? d : -d;
-        before = c->limit.t.side > 0 ? c->prev_x - c->limit.dc : c->limit.dc - c->prev_x;
-        if (moved > (a0 >> 1) && moved * 4 >= before && moved <= before * 4) {
-            c->origin = c->limit.dc;
-            (void)sig_limit_accept_q(&c->limit, x);
-            c->ramp = true;
-            c->missed = c->paused = c->followed = false;
-            c->slope = d;
-            c->last = x;
-            *y = x;
-            ret = (sig_status)(SIG_CHAIN_TAKEN(ret) | SIG_CHAIN_RAMP);
-        }
-        break;
-    default:
-        break;
-    }
-    c->prev_x = x;
+    RAMP_AFTER(c, x, y, ret, true, int32_t, 0, HALF_Q, sig_limit_accept_q, sig_limit_set_ref_q);
     return ret;
 }
 
