@@ -56,8 +56,9 @@
  *    ramp (the load stopped; a restart, SIG_CHAIN_MOTION).
  *    A rejected sample back within A0 of where the ramp began ends it and is
  *    taken (a glitch pair or a bump that came back, SIG_LIMIT_RESEEDED);
- *    rejected before any sample was followed and nearer that level than
- *    the prediction, the start was a glitch pair:
+ *    rejected before any sample was followed, nearer that level than the
+ *    prediction and no farther from it than the ramp's last value, the start
+ *    was a glitch pair:
  *    the level before it is held and the window restarts from it
  *    (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED); otherwise the last followed
  *    value is held, the ramp predicted two

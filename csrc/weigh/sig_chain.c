@@ -152,13 +152,15 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
         case SIG_CHAIN_RAMP_BROKEN:                                                      \
             d_ = (x) - (c)->origin;                                                      \
             moved_ = (x) - (c)->pred;                                                    \
+            before_ = (c)->last - (c)->origin;                                           \
             if ((finite) && d_ <= a0_ && -d_ <= a0_) {        /* came back: taken */     \
                 (c)->ramp = (c)->missed = (c)->paused = false;                           \
                 (void)ACCEPT(&(c)->limit, (x));                                          \
                 *(y) = (x);                                                              \
                 (ret) = SIG_CHAIN_TAKEN(ret);                                            \
             } else if (!(c)->followed                         /* a glitch pair */        \
-                       && (moved_ < ZERO ? -moved_ : moved_) > (d_ < ZERO ? -d_ : d_)) { \
+                       && (moved_ < ZERO ? -moved_ : moved_) > (d_ < ZERO ? -d_ : d_)   \
+                       && (d_ < ZERO ? -d_ : d_) <= (before_ < ZERO ? -before_ : before_)) { \
                 (c)->ramp = (c)->missed = (c)->paused = false;                           \
                 (void)SET_REF(&(c)->limit, (c)->origin);                                 \
                 *(y) = (c)->origin;                                                      \

@@ -581,8 +581,9 @@ class Chain:
         way to each new difference (kept across one held sample).  A rejection back within A0 of where the ramp began ends it
         and the sample is taken (a glitch pair or a bump that came back);
         otherwise, if no sample has been followed since the start and the
-        sample is nearer where the ramp began than its prediction, the start
-        was a glitch pair: the level before it is held and the window starts
+        sample is nearer where the ramp began than its prediction, and no
+        farther from it than the ramp's last value (not a glitch itself), the
+        start was a glitch pair: the level before it is held and the window starts
         again from it (a re-seed); else the last followed value is held, and a
         second rejection in a row ends the ramp.  Returns (y, status)."""
         rejected = (ret & WARN_REJECTED) != 0
@@ -602,7 +603,8 @@ class Chain:
                     self.ramp = self.missed = self.paused = False
                     self.limit.accept(x)
                     y, ret = x, (ret & ~WARN_REJECTED) | LIMIT_RESEEDED
-                elif not self.followed and abs(self._diff(x, self.pred)) > abs(d):
+                elif (not self.followed and abs(self._diff(x, self.pred)) > abs(d)
+                      and abs(d) <= abs(self._diff(self.last, self.origin))):
                     self.ramp = self.missed = self.paused = False
                     self.limit.set_ref(self.origin)
                     y, ret = self.origin, ret | LIMIT_RESEEDED
