@@ -11,7 +11,7 @@ with --status the chain's status bits per sample (4 impulse replaced,
 16 lock-out re-seed, 32 motion restart, 64 tare applied, 1 clamped,
 128 measured noise at its floor: a stuck sensor, 256 a pour followed as a
 ramp).  The summary tells impulses (replaced samples after which the load
-did not move) from samples of load motion (pysig.weigh.events).
+did not move) from samples of load motion (pysig.weigh.EventCounter).
 
 The default preset, `auto`, needs no sensor constant and no unit: it
 measures the noise on the fly and every threshold (A0, motion band,
