@@ -28,7 +28,7 @@ sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out)
     sig_real pos, lo, hi, frac, y;
     int32_t seg;
     if (p == NULL || out == NULL || p->table == NULL) return SIG_ERR_ARG;
-    if (!(t < p->t_lo) && !(t >= p->t_lo)) return SIG_ERR_NONFINITE;   /* NaN */
+    if (sig_real_isnan(t)) return SIG_ERR_NONFINITE;
     st = sig_clamp_real(&t, p->t_lo, p->t_hi);
     pos = (t - p->t_lo) * p->inv_step;
     seg = (int32_t)pos;                      /* pos >= 0: truncation is floor */

@@ -229,7 +229,7 @@ sig_status sig_tcomp_apply_f(const sig_tcomp_f *m, sig_real t, const sig_real *i
     sig_real u, delta[SIG_TCOMP_MAX_AXES];
     uint8_t a;
     if (m == NULL || in == NULL || out == NULL) return SIG_ERR_ARG;
-    if (!(t < m->t_lo) && !(t >= m->t_lo)) return SIG_ERR_NONFINITE;   /* NaN; +-inf clamps */
+    if (sig_real_isnan(t)) return SIG_ERR_NONFINITE;   /* +-inf clamps */
     if (!sig_real_all_finite(in, m->n_axes)) return SIG_ERR_NONFINITE;
     st = sig_clamp_real(&t, m->t_lo, m->t_hi);
     u = (t - m->center) * m->inv_scale;
