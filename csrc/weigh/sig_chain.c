@@ -36,7 +36,8 @@ static bool params_ok_f(const sig_chain_params_f *p)
         && nonneg_finite(p->p0) && sig_real_isfinite(p->x0)
         && nonneg_finite(p->stable_step) && p->stable_count >= 1u
         && nonneg_finite(p->motion_band) && p->motion_count >= 1u
-        && nonneg_finite(p->zero_band) && nonneg_finite(p->zero_rate);
+        && nonneg_finite(p->zero_band) && nonneg_finite(p->zero_rate)
+        && (p->seed_first || (!p->noise_auto && p->p0 >= p->r));     /* see sig_chain.h */
 }
 
 /* The load moved: P back to P0; with noise_auto the estimate also starts
@@ -223,7 +224,8 @@ static bool params_ok_q(const sig_chain_params_q *p)
         && p->q_q30 <= SIG_KALMAN1_Q_MAX && p->p0_q16 <= SIG_KALMAN1_P0_MAX
         && p->stable_step_q7 >= 0 && p->stable_count >= 1u
         && p->motion_band_q7 >= 0 && p->motion_count >= 1u
-        && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0;
+        && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0
+        && (p->seed_first || (!p->noise_auto && p->p0_q16 >= (uint32_t)SIG_Q16_ONE));
 }
 
 static void set_thresholds_q(sig_chain_q *c)
