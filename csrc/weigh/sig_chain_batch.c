@@ -2,6 +2,14 @@
 #include "sig_chain_batch.h"
 #include "sig_chain_stages.h"
 
+/* Host and 32-bit firmware only.  Under sdcc --stack-auto the fast path's
+ * frame (about 259 bytes) outgrows the 8051's internal RAM and its frame
+ * offsets wrap (warning 158): silently wrong code.  An 8051 firmware steps
+ * the chain one sample at a time (sig_chain_step_*). */
+#ifdef __SDCC
+#error "sig_chain_batch.c is not for the 8051: call sig_chain_step_f/_q per sample"
+#endif
+
 /* Largest |sample| the batch fast path takes: a sum of SIG_ANTIPULSE_MAX + 2
  * such values cannot overflow, so the window sum and trimmed mean need no
  * finiteness checks (DBL_MAX ~ 1.8e308, FLT_MAX ~ 3.4e38). */
