@@ -180,13 +180,13 @@ sig_status sig_tcomp_apply_q(const sig_tcomp_q *m, int16_t t, const int16_t *in,
     sig_status st;
     int16_t u;
     int32_t delta, corrected;
-    const int32_t *c;
     uint8_t a;
     if (m == NULL || in == NULL || out == NULL) return SIG_ERR_ARG;
     st = sig_tcomp_scale_q(m, t, &u);
-    c = m->coef[0];
-    for (a = 0; a < m->n_axes; a++, c += SIG_TCOMP_MAX_ORDER + 1u) {
-        st = (sig_status)(st | axis_delta(m, c, u, &delta));   /* never an error after init */
+    for (a = 0; a < m->n_axes; a++) {
+        /* each row through its own index: a pointer stepped from coef[0]
+         * into the next row leaves its array (C99 6.5.6p8) */
+        st = (sig_status)(st | axis_delta(m, m->coef[a], u, &delta));   /* never an error after init */
         delta = round_shift(m, m->q[a], m->q_round[a], delta);
         corrected = sig_sat_sub32((int32_t)in[a], delta);
         if (corrected > INT16_MAX || corrected < INT16_MIN) st = (sig_status)(st | SIG_WARN_SATURATED);
