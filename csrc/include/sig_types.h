@@ -43,6 +43,12 @@ typedef char sig_real_bits_match[sizeof(sig_real) == sizeof(sig_real_bits) ? 1 :
 
 #define SIG_Q16_ONE INT32_C(65536)
 
+/* SIG_NO_FLOAT: a fixed-only build.  The `_f` functions and the sig_real
+ * helpers are left out of every module, so a firmware that uses only the
+ * `_q` forms carries no float code (sdcc links whole modules: a fixed-only
+ * 8051 firmware would otherwise hold ~20 KB of float code it never calls,
+ * and the float library with it).  The structs and prototypes stay. */
+
 /* The length of a run of successive samples that share a property (within
  * the step, outside the band, rejected on one side) after one more sample:
  * one longer when it has the property, else 0; it stops growing at 255.
@@ -69,12 +75,14 @@ int32_t sig_abs32_sat(int32_t x);
 int32_t sig_asr32(int32_t x, uint8_t n);
 int32_t sig_shl32_sat(int32_t x, uint8_t n);
 int32_t sig_mul_q16_sat(int32_t a, int32_t b);
+sig_status sig_clamp_i16(int16_t *x, int16_t lo, int16_t hi);
+#ifndef SIG_NO_FLOAT
 sig_real_bits sig_real_to_bits(sig_real x);
 bool sig_real_isfinite(sig_real x);
 bool sig_real_isnan(sig_real x);
-sig_status sig_clamp_i16(int16_t *x, int16_t lo, int16_t hi);
 sig_status sig_clamp_real(sig_real *x, sig_real lo, sig_real hi);
 bool sig_real_all_finite(const sig_real *v, uint16_t n);
+#endif
 #else
 #ifdef __SDCC
 #define SIG_HELPER              /* sig_types.c: the one external definition */
@@ -167,6 +175,7 @@ SIG_HELPER int32_t sig_mul_q16_sat(int32_t a, int32_t b)
     return hi == limit ? INT32_MIN : -(int32_t)hi;
 }
 
+#ifndef SIG_NO_FLOAT
 /* The bits of a sig_real (IEEE 754 binary32 or binary64), read through a
  * union (C99 6.5.2.3: the bytes reinterpreted).  Finiteness is tested on
  * them, not with arithmetic: sdcc folds x - x == 0 to true and its float
@@ -195,6 +204,8 @@ SIG_HELPER bool sig_real_isnan(sig_real x)
     return (sig_real_to_bits(x) & ~SIG_REAL_SIGN_BIT) > SIG_REAL_EXP_BITS;
 }
 
+#endif /* SIG_NO_FLOAT */
+
 /* *x limited to [lo, hi] (lo <= hi): SIG_WARN_CLAMPED when it had to move,
  * else SIG_OK - a temperature outside the calibrated range, a scaled value
  * outside the polynomial's domain. */
@@ -206,6 +217,7 @@ SIG_HELPER sig_status sig_clamp_i16(int16_t *x, int16_t lo, int16_t hi)
     return SIG_WARN_CLAMPED;
 }
 
+#ifndef SIG_NO_FLOAT
 /* As sig_clamp_i16; +-inf clamps, NaN passes unchanged (callers test it). */
 SIG_HELPER sig_status sig_clamp_real(sig_real *x, sig_real lo, sig_real hi)
 {
@@ -223,6 +235,7 @@ SIG_HELPER bool sig_real_all_finite(const sig_real *v, uint16_t n)
         if (!sig_real_isfinite(v[i])) return false;
     return true;
 }
+#endif /* SIG_NO_FLOAT */
 
 #endif /* __SDCC && !SIG_TYPES_DEFINE */
 

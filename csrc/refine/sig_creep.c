@@ -37,6 +37,7 @@ sig_status sig_creep_step_q(sig_creep_q *s, int32_t x, int32_t *contribution, in
     return st;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_creep_init_f(sig_creep_f *s, sig_real alpha, sig_real k)
 {
     sig_lag_f lag;
@@ -65,3 +66,4 @@ sig_status sig_creep_step_f(sig_creep_f *s, sig_real x, sig_real *contribution, 
     *corrected = x - c;
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */

@@ -28,6 +28,7 @@ sig_status sig_cross_apply_q(const sig_cross_q *c, int32_t x, const int32_t *oth
     return sig_flag_rail(st, y);
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_cross_init_f(sig_cross_f *c, const sig_real *k, uint8_t n)
 {
     uint8_t j;
@@ -51,3 +52,4 @@ sig_status sig_cross_apply_f(const sig_cross_f *c, sig_real x, const sig_real *o
     *out = x - acc;
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */

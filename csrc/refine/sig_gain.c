@@ -23,6 +23,7 @@ sig_status sig_gain_apply_q(const sig_gain_q *g, int16_t u_q15, int32_t x, int32
     return sig_flag_rail(st, y);
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_gain_init_f(sig_gain_f *g, const sig_real *coef, uint8_t order)
 {
     uint8_t k;
@@ -44,3 +45,4 @@ sig_status sig_gain_apply_f(const sig_gain_f *g, sig_real u, sig_real x, sig_rea
     *out = x * gain;
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */

@@ -46,6 +46,7 @@ sig_status sig_hyst_step_q(sig_hyst_q *s, int16_t t, int16_t *branch, int32_t *c
     return st;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_hyst_init_f(sig_hyst_f *s, sig_real width, sig_real k, int8_t start)
 {
     if (s == NULL || !sig_real_isfinite(width) || !sig_real_isfinite(k) || !(width > SIG_REAL(0.0))
@@ -87,3 +88,4 @@ sig_status sig_hyst_step_f(sig_hyst_f *s, sig_real t, sig_real *branch, sig_real
     *contribution = (t - p) * s->k;
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */

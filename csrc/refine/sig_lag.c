@@ -42,6 +42,7 @@ sig_status sig_lag_step_q(sig_lag_q *s, int32_t x, int32_t *out)
     return st;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_lag_init_f(sig_lag_f *s, sig_real alpha)
 {
     if (s == NULL || !sig_real_isfinite(alpha) || !(alpha > SIG_REAL(0.0)) || alpha > SIG_REAL(1.0))
@@ -75,3 +76,4 @@ sig_status sig_lag_step_f(sig_lag_f *s, sig_real x, sig_real *out)
     *out = s->z;
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */

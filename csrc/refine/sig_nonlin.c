@@ -44,6 +44,7 @@ sig_status sig_nonlin_apply_q(const sig_nonlin_q *m, int32_t x, int32_t *out)
     return sig_flag_rail(st, y);
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_nonlin_init_f(sig_nonlin_f *m, const sig_real *coef, uint8_t order,
                              sig_real center, sig_real inv_scale)
 {
@@ -72,3 +73,4 @@ sig_status sig_nonlin_apply_f(const sig_nonlin_f *m, sig_real x, sig_real *out)
     *out = x + p;
     return st;
 }
+#endif /* SIG_NO_FLOAT */

@@ -195,6 +195,7 @@ sig_status sig_tcomp_apply_q(const sig_tcomp_q *m, int16_t t, const int16_t *in,
     return st;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_tcomp_init_f(sig_tcomp_f *m, uint8_t n_axes, uint8_t order, const sig_real *coef,
                             sig_real t_lo, sig_real t_hi, sig_real center, sig_real inv_scale)
 {
@@ -240,6 +241,7 @@ sig_status sig_tcomp_apply_f(const sig_tcomp_f *m, sig_real t, const sig_real *i
     for (a = 0; a < m->n_axes; a++) out[a] = in[a] - delta[a];
     return st;
 }
+#endif /* SIG_NO_FLOAT */
 
 sig_status sig_tcomp_load_image(sig_tcomp_q *m, const uint8_t *image, size_t len)
 {

@@ -2,6 +2,7 @@
 #include "sig_chain.h"
 #include "sig_chain_stages.h"
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 static bool nonneg_finite(sig_real x)
 {
     return sig_real_isfinite(x) && x >= SIG_REAL(0.0);
@@ -47,6 +48,7 @@ static void restart_kf_f(sig_chain_f *c)
     if (c->noise_auto) (void)sig_kalman1_reset_f(&c->kf);
     else (void)sig_kalman1_restart_f(&c->kf);
 }
+#endif /* SIG_NO_FLOAT */
 
 static void restart_kf_q(sig_chain_q *c)
 {
@@ -54,6 +56,7 @@ static void restart_kf_q(sig_chain_q *c)
     else (void)sig_kalman1_restart_q(&c->kf);
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* noise_auto: the thresholds from the measured sigma (sig_chain.h) */
 static void set_thresholds_f(sig_chain_f *c)
 {
@@ -66,6 +69,7 @@ static void set_thresholds_f(sig_chain_f *c)
     c->zero_band = SIG_REAL(2.0) * s;
     c->zero_rate = SIG_REAL(0.0625) * s;
 }
+#endif /* SIG_NO_FLOAT */
 
 /* noise_auto, after the stages: whether this sample may update the noise
  * estimate (bool `update`) - not on a motion or re-seed event nor for a
@@ -101,6 +105,7 @@ static void noise_gate_reset(sig_chain_gate *g)
     g->frozen = 0u;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* noise_auto, after the stages: the estimator, then the thresholds; the floor flag */
 static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
 {
@@ -208,6 +213,7 @@ sig_status sig_chain_set_offset_f(sig_chain_f *c, sig_real offset)
     c->tare_pending = false;
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */
 
 /* ---- fixed point ---------------------------------------------------------- */
 

@@ -2,6 +2,7 @@
 #include "sig_noise.h"
 #include "sig_antipulse.h"
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 static sig_real floor_f(sig_real x, sig_real res)
 {
     sig_real f = (x < SIG_REAL(0.0) ? -x : x) * SIG_NOISE_FLOOR_REL;
@@ -64,6 +65,7 @@ bool sig_noise_at_floor_f(const sig_noise_f *s)
 {
     return s->sigma <= floor_f(s->prev, s->res);
 }
+#endif /* SIG_NO_FLOAT */
 
 sig_status sig_noise_reset_q(sig_noise_q *s)
 {
