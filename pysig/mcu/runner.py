@@ -917,7 +917,9 @@ def mcs51_stack_peak(img: Image, start: str = "main", stop: str = "results_ready
     what the handler saves and the frames of what it calls), measured on its
     first run: paint above SP at its entry, run until it returns (to the
     address it saved), take the highest byte written.  A handler that can
-    fire at any time adds isr_bytes to the peak in the worst case."""
+    fire at any time adds isr_bytes to the peak in the worst case.  A build
+    with --xstack also gets its pdata stack measured the same way
+    ("xstack_peak", "xstack_headroom": an xram address in page 0)."""
     s = img.symbols
     pat = STACK_PATTERN[0]
 
@@ -933,6 +935,13 @@ def mcs51_stack_peak(img: Image, start: str = "main", stop: str = "results_ready
     dump = _hexdump(out, sp + 1, 0xff - sp, _S51_DUMP)
     peak = sp + 1 + max([i for i, b in enumerate(dump) if b != pat], default=-1)
     res = {"start_sp": sp, "peak": peak, "headroom": 0xff - peak}
+    if "__start__xstack" in s:      # --xstack: the frames' stack in the pdata page
+        lo = s["__start__xstack"][1]
+        out = _s51(img, [f"break {entry:#x}", "run", f"fill xram {lo:#x} 0xff {pat:#x}", "delete",
+                         f"break {s['_' + stop][1]:#x}", "run", f"dump /h xram {lo:#x} 0xff"])
+        dump = _hexdump(out, lo, 0x100 - lo, _S51_DUMP)
+        xpeak = lo + max([i for i, b in enumerate(dump) if b != pat], default=-1)
+        res.update(xstack_start=lo, xstack_peak=xpeak, xstack_headroom=0xff - xpeak)
     if isr:
         at = s["_" + isr][1]
         out = _s51(img, [f"break {at:#x}", "run", "dump /h sfr 0x81 0x81"])
