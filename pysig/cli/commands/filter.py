@@ -26,9 +26,8 @@ fixed-point C code (samples rounded to integer codes)."""
 import numpy as np
 import pyarrow as pa
 
-from ...weigh.chain import PRESETS, Chain
+from ...weigh import CODE_MAX, PRESETS, Chain
 from ...errors import InputFileError, NonFiniteError, SaturationError
-from ...weigh.presets import CODE_MAX
 from ...io import from_numpy, numeric_column, read_header, read_table, row_label
 from ...io_stream import iter_batches, progress, table_sink
 from ...status import Warn
