@@ -18,9 +18,10 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from pysig.errors import RangeError
-from pysig.weigh.chain import Chain
-from pysig.weigh.presets import AUTO, CODE_MAX, PRESETS
-from pysig.reference import chain as R
+from pysig.weigh import CODE_MAX, PRESETS, Chain
+from spec import chain as R
+
+AUTO = "auto"                    # a threshold that follows the noise (or R)
 
 N_SAMPLES = 1000
 FIXED_SLACK_CODES = 1.0          # Q24.7 rounding of the estimate and of x0, in codes

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, require_target_tools, require_tool
-from pysig.mcu import runner
+from lab.mcu import runner
 from pysig.status import Status, Warn
 
 HARNESS = ROOT / "bench" / "mcu" / "harness" / "nonfinite_harness.c"
