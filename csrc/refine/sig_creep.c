@@ -4,10 +4,8 @@
 
 sig_status sig_creep_init_q(sig_creep_q *s, int32_t alpha_q16, uint8_t frac, int32_t k_q16)
 {
-    sig_lag_q lag;
-    if (s == NULL) return SIG_ERR_ARG;
-    if (sig_lag_init_q(&lag, alpha_q16, frac) != SIG_OK) return SIG_ERR_ARG;
-    s->lag = lag;
+    /* the lag's init checks before it writes: an error leaves *s as it was */
+    if (s == NULL || sig_lag_init_q(&s->lag, alpha_q16, frac) != SIG_OK) return SIG_ERR_ARG;
     s->k_q16 = k_q16;
     return SIG_OK;
 }
@@ -40,10 +38,8 @@ sig_status sig_creep_step_q(sig_creep_q *s, int32_t x, int32_t *contribution, in
 #ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_creep_init_f(sig_creep_f *s, sig_real alpha, sig_real k)
 {
-    sig_lag_f lag;
-    if (s == NULL || !sig_real_isfinite(k)) return SIG_ERR_ARG;
-    if (sig_lag_init_f(&lag, alpha) != SIG_OK) return SIG_ERR_ARG;
-    s->lag = lag;
+    if (s == NULL || !sig_real_isfinite(k) || sig_lag_init_f(&s->lag, alpha) != SIG_OK)
+        return SIG_ERR_ARG;
     s->k = k;
     return SIG_OK;
 }

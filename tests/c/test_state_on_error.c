@@ -211,6 +211,8 @@ static void refined(void)
     int32_t out;
     int k;
     memset(&r, 0x5a, sizeof r);
+    memset(&lag, 0x5a, sizeof lag);     /* copied into r with its padding */
+    memset(&hyst, 0x5a, sizeof hyst);
     CHECK_EQ_I(sig_tcomp_init_q(&m, 2u, 2u, coef, q, -1000, 7000, 3000, 2500, 8191, 10u), SIG_OK);
     CHECK_EQ_I(sig_lag_init_q(&lag, 16384, 16u), SIG_OK);
     CHECK_EQ_I(sig_hyst_init_q(&hyst, 50, 32768, 0), SIG_OK);
