@@ -213,6 +213,10 @@ CASES = [
      RangeError, ["window", "100", "3..32"]),
     ("filter-nonpositive-R", case_text("filter", WEIGH, extra=["--R", "0"]), RangeError, ["R", "> 0"]),
     ("filter-nan-parameter", case_text("filter", WEIGH, extra=["--A0", "nan"]), RangeError, ["A0", "finite"]),
+    ("filter-no-seed-first-measured-noise", case_text("filter", WEIGH, extra=["--no-seed-first"]),
+     RangeError, ["seed_first", "re-seeds"]),
+    ("filter-start-never-reaches", case_text("filter", WEIGH, extra=["--preset", "paper", "--P0", "0.01"]),
+     RangeError, ["P0", "seed_first=False", "P0 >= R"]),
     ("filter-fixed-huge-parameter", case_text("filter-fixed", WEIGH, extra=["--A0", "1e305"]),
      RangeError, ["A0", "1e+305"]),
     # fit: temperature-compensation training

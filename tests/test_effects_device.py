@@ -1,4 +1,4 @@
-"""csrc/refine/sig_effects.c against its Python reference: fixed point bit for bit
+"""csrc/refine/ (the effects, sig_effects.h) against its Python reference: fixed point bit for bit
 (hypothesis-generated inputs, state carried across calls split at random
 points), float forms within 1e-12 relative of the reference and of the
 float model refine fits with (pysig.refine._effect_models)."""

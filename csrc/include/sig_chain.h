@@ -75,6 +75,14 @@
  *    1 sigma of it (a load that has begun to move faster than the output
  *    follows).
  *
+ * Start of the Kalman estimate: seed_first takes the first window mean;
+ * without it the estimate starts from x0 and the parameters must trust the
+ * first samples, P0 >= R (the first gain >= 1/2; a constant input is then
+ * within |x0 - input| / (n + 1) after n samples).  noise_auto re-seeds on
+ * the window mean while settling and needs seed_first (with it off the
+ * filter would restart from x0 every sample and never reach the input).
+ * _init refuses other combinations with SIG_ERR_ARG.
+ *
  * Status: negative = error, nothing changed; otherwise OR of
  * SIG_WARN_CLAMPED, SIG_WARN_REJECTED (limit replaced the sample, or a
  * non-finite sample), SIG_LIMIT_RESEEDED, SIG_CHAIN_MOTION, SIG_CHAIN_TARED.

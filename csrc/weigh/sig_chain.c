@@ -2,6 +2,7 @@
 #include "sig_chain.h"
 #include "sig_chain_stages.h"
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 static bool nonneg_finite(sig_real x)
 {
     return sig_real_isfinite(x) && x >= SIG_REAL(0.0);
@@ -36,7 +37,8 @@ static bool params_ok_f(const sig_chain_params_f *p)
         && nonneg_finite(p->p0) && sig_real_isfinite(p->x0)
         && nonneg_finite(p->stable_step) && p->stable_count >= 1u
         && nonneg_finite(p->motion_band) && p->motion_count >= 1u
-        && nonneg_finite(p->zero_band) && nonneg_finite(p->zero_rate);
+        && nonneg_finite(p->zero_band) && nonneg_finite(p->zero_rate)
+        && (p->seed_first || (!p->noise_auto && p->p0 >= p->r));     /* see sig_chain.h */
 }
 
 /* The load moved: P back to P0; with noise_auto the estimate also starts
@@ -46,6 +48,7 @@ static void restart_kf_f(sig_chain_f *c)
     if (c->noise_auto) (void)sig_kalman1_reset_f(&c->kf);
     else (void)sig_kalman1_restart_f(&c->kf);
 }
+#endif /* SIG_NO_FLOAT */
 
 static void restart_kf_q(sig_chain_q *c)
 {
@@ -53,6 +56,7 @@ static void restart_kf_q(sig_chain_q *c)
     else (void)sig_kalman1_restart_q(&c->kf);
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* noise_auto: the thresholds from the measured sigma (sig_chain.h) */
 static void set_thresholds_f(sig_chain_f *c)
 {
@@ -66,6 +70,7 @@ static void set_thresholds_f(sig_chain_f *c)
     c->zero_rate = SIG_REAL(0.0625) * s;
     c->near_band = SIG_REAL(3.0) * s;
 }
+#endif /* SIG_NO_FLOAT */
 
 /* noise_auto, after the stages: whether this sample may update the noise
  * estimate (bool `update`) - not on a motion or re-seed event nor for a
@@ -103,6 +108,7 @@ static void noise_gate_reset(sig_chain_gate *g)
     g->frozen = 0u;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* noise_auto, after the stages: the estimator, then the thresholds; the floor flag */
 static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
 {
@@ -112,6 +118,8 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
     set_thresholds_f(c);
     return sig_noise_at_floor_f(&c->noise) ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
 }
+
+#endif /* SIG_NO_FLOAT */
 
 /* noise_auto: the ramp follower (sig_chain.h), written once as macros over
  * either chain (the fields have the same names in both; like NOISE_GATE).
@@ -196,6 +204,7 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
 #define HALF_F(v) ((v) * SIG_REAL(0.5))
 #define HALF_Q(v) sig_asr32((v), 1u)
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 static bool ramp_before_f(sig_chain_f *c, sig_real x)
 {
     sig_real p;
@@ -338,6 +347,7 @@ sig_status sig_chain_set_offset_f(sig_chain_f *c, sig_real offset)
     c->tare_pending = false;
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */
 
 /* ---- fixed point ---------------------------------------------------------- */
 
@@ -354,7 +364,8 @@ static bool params_ok_q(const sig_chain_params_q *p)
         && p->q_q30 <= SIG_KALMAN1_Q_MAX && p->p0_q16 <= SIG_KALMAN1_P0_MAX
         && p->stable_step_q7 >= 0 && p->stable_count >= 1u
         && p->motion_band_q7 >= 0 && p->motion_count >= 1u
-        && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0;
+        && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0
+        && (p->seed_first || (!p->noise_auto && p->p0_q16 >= (uint32_t)SIG_Q16_ONE));
 }
 
 static void set_thresholds_q(sig_chain_q *c)

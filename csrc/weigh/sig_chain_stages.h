@@ -112,6 +112,7 @@ SIG_CHAIN_STAGE bool sig_chain_backed(sig_status ret, uint8_t held, uint8_t n, u
         && held == n && motion_run == 0u && !drifting && near;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* Tare and zero tracking on a stable sample xk: a pending tare takes xk as
  * the offset (returns true); otherwise, while |xk - offset| <= zband, the
  * offset moves towards xk by at most zrate (zband 0: no tracking). */
@@ -128,6 +129,7 @@ SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, bool *tar
     *offset += dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
     return false;
 }
+#endif /* SIG_NO_FLOAT */
 
 /* no subtraction while nothing is pending and tracking is off: the 8051
  * pays a call for each saturating operation */

@@ -1,11 +1,13 @@
 /* sig_limit.c - limit (threshold) filter with the lock-out fix; see sig_limit.h. */
 #include "sig_limit.h"
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* Where a sample lies, from d = x - Dc: +1 above A0, -1 below -A0, 0 within. */
 static int8_t side_f(sig_real d, sig_real a0)
 {
     return d > a0 ? (int8_t)1 : (d < -a0 ? (int8_t)-1 : (int8_t)0);
 }
+#endif /* SIG_NO_FLOAT */
 
 static int8_t side_q(int32_t d, int32_t a0)
 {
@@ -45,6 +47,7 @@ static sig_status track_decide(sig_limit_track *t, int8_t side)
     return outside ? SIG_LIMIT_RESEEDED : SIG_OK;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_limit_init_f(sig_limit_f *s, sig_real a0, uint8_t lockout_n)
 {
     if (!s || !sig_real_isfinite(a0) || !(a0 > SIG_REAL(0.0))) return SIG_ERR_ARG;
@@ -92,6 +95,7 @@ sig_status sig_limit_accept_f(sig_limit_f *s, sig_real x)
     track_accept(&s->t);
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */
 
 sig_status sig_limit_init_q(sig_limit_q *s, int32_t a0, uint8_t lockout_n)
 {

@@ -19,7 +19,7 @@ found by a 1-D search (a log grid, then scipy.optimize.minimize_scalar on
 the full data).
 
 The on-device forms of the state (lag IIR, play operator) are in
-csrc/include/sig_effects.h and csrc/refine/sig_effects.c;
+csrc/include/sig_effects.h and csrc/refine/ (sig_lag.c, sig_hyst.c);
 tests/spec/effects.py is their fixed-point spec.  The float forms
 here are what the fit uses."""
 from dataclasses import dataclass, field
@@ -57,7 +57,7 @@ def play_operator(x, width, start=0):
     sample: p[0] = x[0] - start * width.
 
     One implementation: the firmware's float form (sig_hyst_step_f in
-    csrc/refine/sig_effects.c) through Cython; its spec is
+    csrc/refine/sig_hyst.c) through Cython; its spec is
     spec.effects.HystF."""
     branch, _, _ = _effects.hyst_f(x, float(width), 0.0, int(start))
     return np.asarray(x, dtype=float) - branch

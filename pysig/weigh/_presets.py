@@ -159,6 +159,7 @@ def chain_params(preset="recommended", units_per_kg=None, **overrides):
         p[k] = float(given) * s * (s if k in ("Q", "R", "P0") else 1.0)
         _check(math.isfinite(p[k]), k, given, f"overflows in signal units (units_per_kg={s!r})")
     p["A0_sigmas"], p["motion_sigmas"] = float(p["A0_sigmas"]), float(p["motion_sigmas"])
+    _check_kalman_start(p)
     if "A0" in auto:
         p["A0"] = p["A0_sigmas"] * math.sqrt(p["R"])
         _check(p["A0"] > 0 and math.isfinite(p["A0"]), "A0", AUTO,
@@ -194,11 +195,25 @@ def _noise_params(p, s):
         r, p["noise_auto"] = float(p["R"]) * s * s, False
         _check(math.isfinite(r) and r > 0, "R", p["R"], f"out of range in signal units (units_per_kg={s!r})")
     p["Q"], p["P0"], p["R"] = float(p["Q"]) * r, float(p["P0"]) * r, r
+    _check(p["seed_first"] or not p["noise_auto"], "seed_first", False,
+           "the noise measured on the fly (R 'auto') re-seeds the Kalman filter on the window "
+           "mean while settling: it needs seed_first=True")
+    _check_kalman_start(p)
     sigma = math.sqrt(r) if not p["noise_auto"] else NOISE_FLOOR_ABS
     (p["A0"], p["motion_band"], p["stable_step"], p["zero_band"],
      p["zero_rate"]) = noise_thresholds(sigma)
     p["A0_sigmas"], p["motion_sigmas"] = float(p["A0_sigmas"]), float(p["motion_sigmas"])
     return p
+
+
+def _check_kalman_start(p):
+    """Without seed_first the estimate starts from x0: the first samples must
+    count (P0 >= R, the first gain at least 1/2), else a steady load is
+    approached over about R/P0 samples and read wrong meanwhile
+    (csrc/include/sig_chain.h states the same rule)."""
+    _check(p["seed_first"] or p["P0"] >= p["R"], "P0", p["P0"],
+           f"with seed_first=False the Kalman filter starts from x0 and needs P0 >= R "
+           f"(R={p['R']!r} in signal units)")
 
 
 def _round_int32(name, value):

@@ -1,4 +1,4 @@
-"""On-device refinement effects: the executable spec of csrc/refine/sig_effects.c,
+"""On-device refinement effects: the executable spec of csrc/refine/ (one file per effect),
 one sample at a time, in plain Python integers (read next to sig_effects.h).
 
     mul_q16(a, b)   = sat32(floor(a * b / 2^16))          (sig_mul_q16_sat)

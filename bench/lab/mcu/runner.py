@@ -28,7 +28,8 @@ from lab.mcu.build_mcs51 import MCS51_CFLAGS, build_mcs51, mcs51_runtime, mcs51_
 from lab.mcu.build_msp430 import (MSP430_CFLAGS, MSP430_MPY_BASE_SIM, build_msp430,  # noqa: F401
                                   msp430_symbols)
 from lab.mcu.sim_avr import measure_avr
-from lab.mcu.sim_mcs51 import measure_mcs51, profile_lines_mcs51, profile_mcs51, run_until_mcs51  # noqa: F401
+from lab.mcu.sim_mcs51 import (mcs51_stack_peak, measure_mcs51, profile_lines_mcs51,  # noqa: F401
+                               profile_mcs51, run_until_mcs51)
 from lab.mcu.sim_msp430 import measure_msp430, profile_msp430, run_until_msp430
 from lab.mcu.sizes import (code_closure, is_helper, mcs51_module_sizes, symbol_size,  # noqa: F401
                            text_bytes)

@@ -242,3 +242,56 @@ def run_until_mcs51(img: Image, stop: str, reads: dict) -> dict:
     if not re.search(r"Stop at 0x0*%x" % s["_" + stop][1], out, re.I) or "Stack overflow" in out:
         raise McuError(f"s51 never reached {stop} or overflowed the stack:\n" + out[-2000:])
     return {name: hexdump(out, s["_" + name][1], n, _S51_DUMP) for name, n in reads.items()}
+
+
+def mcs51_stack_peak(img: Image, start: str = "main", stop: str = "results_ready",
+                     isr: str | None = None) -> dict:
+    """The 8051's internal-RAM stack over a run: paint iram above SP when
+    `start` is entered, run to `stop`, and return the highest byte written
+    ("peak", an iram address) and the headroom to 0xFF.  With `isr` (an
+    interrupt handler's name) also the bytes one run of it puts on the stack
+    above the interrupted SP ("isr_bytes": the hardware's return address,
+    what the handler saves and the frames of what it calls), measured on its
+    first run: paint above SP at its entry, run until it returns (to the
+    address it saved), take the highest byte written.  A handler that can
+    fire at any time adds isr_bytes to the peak in the worst case.  A build
+    with --xstack also gets its pdata stack measured the same way
+    ("xstack_peak", "xstack_headroom": an xram address in page 0)."""
+    s = img.symbols
+    pat = STACK_PATTERN[0]
+
+    def sp_now(out):
+        return int(re.findall(r"0x81 ([0-9a-f]{2})", out)[-1], 16)
+
+    entry = s["_" + start][1]
+    sp = sp_now(_s51(img, [f"break {entry:#x}", "run", "dump /h sfr 0x81 0x81"]))
+    out = _s51(img, [f"break {entry:#x}", "run", f"fill iram {sp + 1:#x} 0xff {pat:#x}", "delete",
+                     f"break {s['_' + stop][1]:#x}", "run", "state", f"dump /h iram {sp + 1:#x} 0xff"])
+    if not re.search(r"Stop at 0x0*%x" % s["_" + stop][1], out, re.I) or "Stack overflow" in out:
+        raise McuError(f"s51 never reached {stop} or overflowed the stack:\n" + out[-2000:])
+    dump = hexdump(out, sp + 1, 0xff - sp, _S51_DUMP)
+    peak = sp + 1 + max([i for i, b in enumerate(dump) if b != pat], default=-1)
+    res = {"start_sp": sp, "peak": peak, "headroom": 0xff - peak}
+    if "__start__xstack" in s:      # --xstack: the frames' stack in the pdata page
+        lo = s["__start__xstack"][1]
+        out = _s51(img, [f"break {entry:#x}", "run", f"fill xram {lo:#x} 0xff {pat:#x}", "delete",
+                         f"break {s['_' + stop][1]:#x}", "run", f"dump /h xram {lo:#x} 0xff"])
+        dump = hexdump(out, lo, 0x100 - lo, _S51_DUMP)
+        xpeak = lo + max([i for i, b in enumerate(dump) if b != pat], default=-1)
+        res.update(xstack_start=lo, xstack_peak=xpeak, xstack_headroom=0xff - xpeak)
+    if isr:
+        at = s["_" + isr][1]
+        out = _s51(img, [f"break {at:#x}", "run", "dump /h sfr 0x81 0x81"])
+        isp = sp_now(out)
+        ret = hexdump(_s51(img, [f"break {at:#x}", "run", f"dump /h iram {isp - 1:#x} {isp:#x}"]),
+                       isp - 1, 2, _S51_DUMP)
+        back = ret[0] | (ret[1] << 8)           # the interrupted PC (low byte pushed first)
+        out = _s51(img, [f"break {at:#x}", "run", f"fill iram {isp + 1:#x} 0xff {pat:#x}", "delete",
+                         f"break {back:#x}", "run", "dump /h sfr 0x81 0x81",
+                         f"dump /h iram {isp + 1:#x} 0xff"])
+        if sp_now(out) != isp - 2:
+            raise McuError(f"{isr} did not return to {back:#x} with SP restored:\n" + out[-2000:])
+        dump = hexdump(out, isp + 1, 0xff - isp, _S51_DUMP)
+        res["isr_bytes"] = 2 + 1 + max([i for i, b in enumerate(dump) if b != pat], default=-1)
+        res["worst_case_headroom"] = res["headroom"] - res["isr_bytes"]
+    return res
