@@ -12,6 +12,15 @@ import sys
 from . import commands
 from .. import __version__
 from ..errors import PysigError
+from ..io import csv_delimiter
+
+DELIMITER_NAMES = {",": ",", ";": ";", "tab": "\t", "\\t": "\t", "\t": "\t"}
+
+
+def _delimiter(text):
+    if text not in DELIMITER_NAMES:
+        raise argparse.ArgumentTypeError(f"must be ',', ';' or 'tab', got {text!r}")
+    return DELIMITER_NAMES[text]
 
 
 def command_names():
@@ -28,6 +37,9 @@ def build_parser(only=None):
     for name in ([only] if only else command_names()):
         module = importlib.import_module(f"{commands.__name__}.{name}")
         module.register(sub)
+    for command in sub.choices.values():        # every command reads CSV through pysig.io
+        command.add_argument("--delimiter", type=_delimiter, default=None,
+                             help="CSV delimiter: ',', ';' or 'tab' (default: detected from the header row)")
     return parser
 
 
@@ -49,7 +61,8 @@ def main(argv=None):
         parser.print_help()
         return 2
     try:
-        result = args.func(args)
+        with csv_delimiter(args.delimiter):
+            result = args.func(args)
     except PysigError as exc:
         print(f"pysig {args.command}: error: {exc}", file=sys.stderr)
         return exc.exit_status
