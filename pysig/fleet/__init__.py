@@ -9,15 +9,17 @@ fit_fleet_dask   the same fit on a Dask cluster (optional extra ``fleet``)
 connect          a Dask client (local, or a scheduler address)
 write_fleet      per-device models and images, the summary CSV with its
                  screening, fleet plots; written atomically
-DEFAULT_K        the screening band's width (in robust standard deviations)
+DEFAULT_FALSE_FLAG_RATE  the share of good units the screening is built to flag (0.5 %)
+screen           the screening alone: tests with a known good-unit distribution
 SUMMARY          the summary file's name
 ===============  ==============================================================
 """
 from ._data import load_fleet
 from ._fit import fit_fleet
-from ._report import DEFAULT_K, SUMMARY, write_fleet
+from ._report import DEFAULT_FALSE_FLAG_RATE, SUMMARY, screen, write_fleet
 
-__all__ = ["load_fleet", "fit_fleet", "fit_fleet_dask", "connect", "write_fleet", "DEFAULT_K", "SUMMARY"]
+__all__ = ["load_fleet", "fit_fleet", "fit_fleet_dask", "connect", "write_fleet", "screen",
+           "DEFAULT_FALSE_FLAG_RATE", "SUMMARY"]
 
 
 def __getattr__(name):

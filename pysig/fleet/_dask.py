@@ -17,8 +17,9 @@ from ..errors import PysigError
 from ._fit import FleetFit, fit_fleet
 from ._data import check_conflicts, expand_logs, read_log
 
-FIELDS_1 = ["ok", "order", "n_temps", "samples", "t_lo", "t_hi", "t_center", "u_mul", "u_shift"]
-FIELDS_A = ["f_t0", "q", "bound", "rms", "cv_rms", "drift"]
+FIELDS_1 = ["ok", "order", "n_temps", "samples", "t_lo", "t_hi", "t_center", "u_mul", "u_shift", "noise_dof",
+            "lof_dof"]
+FIELDS_A = ["f_t0", "q", "bound", "rms", "cv_rms", "drift", "noise_var", "lof_var", "curvature"]
 
 
 def _read(item, index, device, temp, readings):
@@ -129,4 +130,6 @@ def _as_fleet_fit(df, axes, t0, max_coef):
                     u_mul=arr["u_mul"].astype(np.int64), u_shift=arr["u_shift"].astype(np.int64),
                     coef=coef[:, :, :top], f_t0=per["f_t0"], q=per["q"].astype(np.int64),
                     coef_q=coef_q[:, :, :top], bound=per["bound"], rms=per["rms"],
-                    cv_rms=per["cv_rms"], drift=per["drift"])
+                    cv_rms=per["cv_rms"], drift=per["drift"], noise_var=per["noise_var"],
+                    noise_dof=arr["noise_dof"].astype(np.int64), lof_var=per["lof_var"],
+                    lof_dof=arr["lof_dof"].astype(np.int64), curvature=per["curvature"])
