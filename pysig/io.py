@@ -61,7 +61,7 @@ def csv_delimiter(delimiter):
     ['t;x']
     """
     if delimiter is not None and delimiter not in DELIMITERS:
-        raise InputFileError(f"--delimiter must be one of ',', ';' or a tab, got {delimiter!r}")
+        raise InputFileError(f"--delimiter must be ',', ';' or 'tab', got {delimiter!r}")
     token = _forced_delimiter.set(delimiter)
     try:
         yield

@@ -14,13 +14,7 @@ from .. import __version__
 from ..errors import PysigError
 from ..io import csv_delimiter
 
-DELIMITER_NAMES = {",": ",", ";": ";", "tab": "\t", "\\t": "\t", "\t": "\t"}
-
-
-def _delimiter(text):
-    if text not in DELIMITER_NAMES:
-        raise argparse.ArgumentTypeError(f"must be ',', ';' or 'tab', got {text!r}")
-    return DELIMITER_NAMES[text]
+DELIMITER_NAMES = {"tab": "\t", "\\t": "\t"}       # how a tab is typed on a command line
 
 
 def command_names():
@@ -38,7 +32,7 @@ def build_parser(only=None):
         module = importlib.import_module(f"{commands.__name__}.{name}")
         module.register(sub)
     for command in sub.choices.values():        # every command reads CSV through pysig.io
-        command.add_argument("--delimiter", type=_delimiter, default=None,
+        command.add_argument("--delimiter", default=None,
                              help="CSV delimiter: ',', ';' or 'tab' (default: detected from the header row)")
     return parser
 
@@ -61,7 +55,7 @@ def main(argv=None):
         parser.print_help()
         return 2
     try:
-        with csv_delimiter(args.delimiter):
+        with csv_delimiter(DELIMITER_NAMES.get(args.delimiter, args.delimiter)):
             result = args.func(args)
     except PysigError as exc:
         print(f"pysig {args.command}: error: {exc}", file=sys.stderr)
