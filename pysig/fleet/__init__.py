@@ -1,7 +1,7 @@
 """Fleet calibration: many devices of one log (or many logs) fitted at once,
 screened, and written as one model and one device-bound NVM image each.
 
-===============  ==============================================================
+===============  ============================================================
 load_fleet       read and check every log (devices sorted by serial)
 fit_fleet        the batched fit of every device (numpy, no per-device loop);
                  equal to the single-device fit of pysig.tcomp
@@ -12,7 +12,7 @@ write_fleet      per-device models and images, the summary CSV with its
 DEFAULT_FALSE_FLAG_RATE  the share of good units the screening is built to flag (0.5 %)
 screen           the screening alone: tests with a known good-unit distribution
 SUMMARY          the summary file's name
-===============  ==============================================================
+===============  ============================================================
 """
 from ._data import load_fleet
 from ._fit import fit_fleet

@@ -3,7 +3,7 @@ format (``docs/image-format.md``), one reader on the device (``csrc/store``),
 CRC-16/CCITT over the whole image, a sequence number for A/B slots, typed
 sections (a model's family, the temperature code, the device id).
 
-==================  ===========================================================
+==================  ======================================================
 build_image         sections + sequence number -> image bytes (with CRC)
 read_image          the checked header and sections of an image
 find_section        one section's payload, or None
@@ -13,7 +13,7 @@ require_device      refuse an image made for another device
 units_payload       the units section: value scale, temperature source, °C
 from_decimal        a decimal field (mantissa, exponent) of the units section
 SECTION_*           the section types (the same numbers as sig_image.h)
-==================  ===========================================================
+==================  ======================================================
 """
 from ._device import device_section, require_device
 from ._image import (SECTION_COMPACT_POLY, SECTION_CREEP, SECTION_DEVICE_ID, SECTION_EXPERIMENTAL,
