@@ -8,6 +8,7 @@ counted as in a spreadsheet: in a CSV the header is row 1 and the first data
 row is row 2; a Parquet file has no header row, so its first row is row 1.
 
 CSV as people export them (the one place these rules live):
+
 * a UTF-8 byte-order mark (Excel's "CSV UTF-8") is stripped;
 * the delimiter is detected from the header row: the most frequent of
   ``,`` ``;`` and tab (European spreadsheets write ``;``), unless one is
@@ -53,7 +54,7 @@ def csv_delimiter(delimiter):
 
     Examples
     --------
-    >>> _ = open("semi.csv", "w").write("t;x\n0;1.5\n1;2.5\n")
+    >>> _ = open("semi.csv", "w").write("t;x\\n0;1.5\\n1;2.5\\n")
     >>> read_csv("semi.csv")["x"]                  # detected
     array([1.5, 2.5])
     >>> with csv_delimiter(","):

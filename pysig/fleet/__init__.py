@@ -1,18 +1,19 @@
 """Fleet calibration: many devices of one log (or many logs) fitted at once,
 screened, and written as one model and one device-bound NVM image each.
 
-===============  ============================================================
-load_fleet       read and check every log (devices sorted by serial)
-fit_fleet        the batched fit of every device (numpy, no per-device loop);
-                 equal to the single-device fit of pysig.tcomp
-fit_fleet_dask   the same fit on a Dask cluster (optional extra ``fleet``)
-connect          a Dask client (local, or a scheduler address)
-write_fleet      per-device models and images, the summary CSV with its
-                 screening, fleet plots; written atomically
-DEFAULT_FALSE_FLAG_RATE  the share of good units the screening is built to flag (0.5 %)
-screen           the screening alone: tests with a known good-unit distribution
-SUMMARY          the summary file's name
-===============  ============================================================
+=======================  ====================================================
+load_fleet               read and check every log (devices sorted by serial)
+fit_fleet                the batched fit of every device (numpy, no
+                         per-device loop); equal to the single-device fit
+fit_fleet_dask           the same fit on a Dask cluster (extra ``fleet``)
+connect                  a Dask client (local, or a scheduler address)
+write_fleet              per-device models and images, the summary CSV with
+                         its screening, fleet plots; written atomically
+screen                   the screening: tests whose good-unit distribution
+                         is known, built for a stated false-flag rate
+DEFAULT_FALSE_FLAG_RATE  the share of good units it is built to flag (0.5 %)
+SUMMARY                  the summary file's name
+=======================  ====================================================
 """
 from ._data import load_fleet
 from ._fit import fit_fleet

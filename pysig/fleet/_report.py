@@ -102,7 +102,7 @@ def screen_tests(fit):
         sigma2 = fleet_variance(fit.noise_var[:, i], fit.noise_dof, ok)
         p = chi2_two_sided(fit.noise_var[:, i], sigma2, fit.noise_dof)
         rms = np.sqrt(fit.noise_var[:, i])
-        out[f"noise {axis}"] = (p, rms, lambda d, rms=rms, s=sigma2: (
+        out[f"noise {axis}"] = (p, rms, lambda d, rms=rms, s=sigma2, axis=axis: (
             f"noise {axis}: within-plateau RMS {rms[d]:.4g} vs the fleet's {np.sqrt(s):.4g}"))
         with np.errstate(invalid="ignore", divide="ignore"):
             F = fit.lof_var[:, i] / fit.noise_var[:, i]
@@ -117,14 +117,15 @@ def screen_tests(fit):
             # the typical unit is not followed: the model's order (too few
             # temperatures for the fleet's shape), not the unit, is the cause
             p_f = np.where(means_only, p_f, np.nan)
-        out[f"lack of fit {axis}"] = (p_f, F, lambda d, F=F: (
+        out[f"lack of fit {axis}"] = (p_f, F, lambda d, F=F, axis=axis, i=i: (
             f"lack of fit {axis}: the model leaves F = {F[d]:.3g} x the noise between temperatures "
             f"(F({fit.lof_dof[d]}, {fit.noise_dof[d]}))" if fit.noise_dof[d] else
             f"lack of fit {axis}: residual of the plateau means {np.sqrt(fit.lof_var[d, i]):.4g}"))
         for name, values, unit in (("drift", fit.drift[:, i], "/°C"), ("curvature", fit.curvature[:, i], "")):
             z, med, mad = robust_z(values, ok)
             p_z = np.where(np.isfinite(z), 2 * stats.norm.sf(np.abs(z)), np.nan)
-            out[f"{name} {axis}"] = (p_z, values, lambda d, v=values, z=z, med=med, mad=mad, n=name, u=unit: (
+            out[f"{name} {axis}"] = (p_z, values, lambda d, v=values, z=z, med=med, mad=mad, n=name, u=unit,
+                                     axis=axis: (
                 f"{n} {axis} {v[d]:.4g}{u}: z = {z[d]:.1f} against the fleet's {med:.4g} +- "
                 f"{MAD_TO_SIGMA * mad:.3g}"))
     return out

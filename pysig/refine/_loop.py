@@ -432,6 +432,7 @@ class Result:
             "before": self.figures(self.base),
             "after": self.figures(self.final),
             "base_model": {"offset_order": self.base.spec.base_order,
+                           "offset_family": self.base.spec.base_family,
                            "offset_order_cv_rms": {str(k): v for k, v in self.base_order_cv.items()},
                            "reference": self.data.labels.get("reference", "given")},
             "final_offset": self.final.spec.describe_base() if self.data.T is not None else None,

@@ -18,11 +18,11 @@ apply                    correct readings with a model (float64 or ``fixed``)
 load_image               an NVM image as the firmware's C loader reads it
 apply_image              correct readings with an NVM image, through the
                          firmware's C loader and evaluator
-image_units              the temperature source and value scale an image records
+image_units              the temperature source and value scale of an image
 image_bytes              the CRC-protected NVM image of a model
-require_float_form       refuse a model whose fixed-point form lost the float one
+require_float_form       refuse a model whose fixed-point form lost the float
 calibrated_range         a model's calibrated temperature range (its unit)
-require_mostly_in_range  refuse a run whose temperatures mostly lie outside it
+require_mostly_in_range  refuse a run mostly outside the calibrated range
 c_header                 the C header of a model (const arrays + init call)
 TempCode, CELSIUS,       the temperature source: °C or int16 / uint16 raw codes
 raw_code
