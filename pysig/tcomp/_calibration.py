@@ -571,7 +571,10 @@ def apply_image(data, temp, readings, temp_code, value_scale=1.0, where="image")
     if temp_code.unit == "raw":
         v = np.asarray(temp, dtype=float)
         if np.any(v != np.round(v)) or v.min() < -32768 or v.max() > 65535:
-            raise RangeError(f"{where}: raw temperature codes must be integers in -32768..65535")
+            raise RangeError(f"{where}: expects the sensor's raw temperature codes, integers in -32768..65535; "
+                             f"the temperature column holds {v.min():.6g} .. {v.max():.6g}"
+                             f"{' with decimals (°C?)' if np.any(v != np.round(v)) else ''}: "
+                             f"give the column of codes the model was fitted on")
         codes = v.astype(np.int64) & 0xFFFF
     else:
         codes = CELSIUS.codes(CELSIUS.to_t(temp, "saturate"))
