@@ -27,6 +27,7 @@ from .._rails import INT16_RAILS, at_rail
 from ..tcomp._poly_model import TcompModel
 
 CV_TOLERANCE = 0.05        # as pysig.tcomp._poly_fit.select_order
+LOF_ORDERS = single.MAX_FIT_ORDER   # orders whose pure error and lack of fit are kept
 
 
 @dataclass
@@ -40,12 +41,12 @@ class FleetFit:
     the mean slope of delta over the calibrated range (reading units / °C).
 
     What the screening (pysig.fleet._report) tests, per device and axis:
-    the residual of a polynomial of the order most of the fleet chose (at
-    most groups - 2) splits into noise_var, its variance within the
+    the residual of a polynomial of order n (1 .. groups - 2, index n - 1
+    of the last axis) splits into noise_var, its variance within the
     temperature groups (pure error, noise_dof = samples in groups - groups
     degrees of freedom; NaN at 0), and lof_var, the lack of fit: sum over
-    groups of n_g * (mean residual of the group)^2 / lof_dof, lof_dof =
-    groups - (that order + 1) (NaN at 0); curvature, the u^2 coefficient of an order-2
+    groups of n_g * (mean residual of the group)^2 / (groups - n - 1);
+    curvature, the u^2 coefficient of an order-2
     fit over the device's range (reading units; NaN below 3 groups).
     """
     devices: np.ndarray
@@ -72,8 +73,22 @@ class FleetFit:
     noise_var: np.ndarray = None
     noise_dof: np.ndarray = None
     lof_var: np.ndarray = None
-    lof_dof: np.ndarray = None
     curvature: np.ndarray = None
+
+    def screening_order(self):
+        """Per device the polynomial order the screening judges it at: the
+        order most of the fleet chose, at most groups - 2 (0: untestable)."""
+        fleet = int(np.bincount(self.order[self.ok]).argmax()) if np.any(self.ok) else 1
+        return np.where(self.ok, np.clip(np.minimum(fleet, self.n_temps - 2), 0, LOF_ORDERS), 0)
+
+    def at_screening_order(self):
+        """(noise_var (D, A), noise_dof (D,), lof_var (D, A), lof_dof (D,)) at `screening_order`."""
+        n = self.screening_order()
+        rows, idx = np.arange(n.size), np.maximum(n - 1, 0)
+        testable = (n > 0)[:, None]
+        noise = np.where(testable, self.noise_var[rows, :, idx], np.nan)
+        lof = np.where(testable, self.lof_var[rows, :, idx], np.nan)
+        return noise, np.where(n > 0, self.noise_dof, 0), lof, np.where(n > 0, self.n_temps - n - 1, 0)
 
     def model(self, d, temp_column="temp"):
         """The TcompModel of device d (as pysig.tcomp._poly_fit would build it)."""
@@ -269,8 +284,11 @@ def _group_split(bins, n_bins, r, D, G_max):
             s2 = np.bincount(bins, r[:, a] ** 2, minlength=n_bins)
             between = np.where(grouped & (n > 0), s1 ** 2 / np.maximum(n, 1), 0.0)
             within = np.where(grouped, s2, 0.0) - between
-            pure[:, a] = np.maximum(within.reshape(D, G_max + 1).sum(1), 0.0)
-            lof[:, a] = between.reshape(D, G_max + 1).sum(1)
+            # bincount adds each device's groups in order, whatever G_max (a
+            # partition of the fleet sums the same numbers the same way)
+            owner = np.arange(n_bins) // (G_max + 1)
+            pure[:, a] = np.maximum(np.bincount(owner, within, minlength=D), 0.0)
+            lof[:, a] = np.bincount(owner, between, minlength=D)
     return pure, lof
 
 
@@ -460,24 +478,24 @@ def fit_fleet(dev, temp, values, devices, axes, model="auto", t0=25.0, max_order
     span = np.maximum((t_hi - t_lo) / quant.T_PER_DEGC, 1e-9)
     drift = np.where(ok[:, None], (pv[1] - pv[0]) / span[:, None], np.nan)
     keep_if = ok[:, None]
-    # the screening's lack of fit: every device at the order most of the fleet
-    # chose (at most groups - 2), so a device whose CV chose less is judged
-    # by the fleet's shape, not by its own choice
-    fleet_order = int(np.bincount(order[ok]).argmax()) if np.any(ok) else 1
-    lof_order = np.where(ok, np.clip(np.minimum(fleet_order, n_groups - 2), 0, max(kmax, 2)), 0)
-    pure_ss, lof_ss = np.zeros((D, A)), np.zeros((D, A))
-    for n in sorted(set(lof_order[ok & (lof_order > 0)].tolist())):
-        sel_d = ok & (lof_order == n)
+    # the screening's pure error and lack of fit at every order the groups
+    # leave a degree of freedom for: the screening takes the order most of
+    # the fleet chose (FleetFit.at_screening_order), known only fleet-wide
+    noise_dof = np.where(ok, n_kept - n_groups, 0)
+    noise_var = np.full((D, A, LOF_ORDERS), np.nan)
+    lof_var = np.full((D, A, LOF_ORDERS), np.nan)
+    for n in range(1, min(max(kmax, 2), LOF_ORDERS, G_max - 2) + 1):
+        sel_d = ok & (n_groups - 2 >= n)
+        if not np.any(sel_d):
+            continue
         c, _ = _solve(S_d, B_d, n, sel_d)
         rsel = sel_d[d_r]
         rr = yc[rsel] - _eval(u[rsel], c[d_r[rsel]])
         pure, lof = _group_split(b_r[rsel], n_bins, rr, D, G_max)
-        pure_ss[sel_d], lof_ss[sel_d] = pure[sel_d], lof[sel_d]
-    noise_dof = np.where(ok & (lof_order > 0), n_kept - n_groups, 0)
-    lof_dof = np.where(ok & (lof_order > 0), n_groups - (lof_order + 1), 0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        noise_var = np.where((noise_dof > 0)[:, None] & keep_if, pure_ss / noise_dof[:, None], np.nan)
-        lof_var = np.where((lof_dof > 0)[:, None] & keep_if, lof_ss / lof_dof[:, None], np.nan)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            noise_var[sel_d, :, n - 1] = np.where((noise_dof > 0)[:, None], pure / noise_dof[:, None],
+                                                  np.nan)[sel_d]
+            lof_var[sel_d, :, n - 1] = (lof / (n_groups - n - 1)[:, None])[sel_d]
     curved = ok & (n_groups >= 3)
     c2, _ = _solve(S_d, B_d, 2, curved)
     curvature = np.where(curved[:, None], c2[:, 2, :], np.nan)
@@ -491,4 +509,4 @@ def fit_fleet(dev, temp, values, devices, axes, model="auto", t0=25.0, max_order
                     f_t0=np.where(keep_if, f_t0, np.nan), q=q, coef_q=coef_q, bound=bound,
                     rms=np.where(keep_if, rms, np.nan), cv_rms=np.where(keep_if, cv_rms, np.nan),
                     drift=drift, noise_var=noise_var, noise_dof=noise_dof.astype(np.int64), lof_var=lof_var,
-                    lof_dof=lof_dof.astype(np.int64), curvature=curvature)
+                    curvature=curvature)

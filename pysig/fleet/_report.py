@@ -98,20 +98,21 @@ def screen_tests(fit):
     """{test name: (p-values per device, statistic per device, text(d))} for every axis."""
     ok = fit.ok
     out = {}
+    noise_var, noise_dof, lof_var, lof_dof = fit.at_screening_order()
     for i, axis in enumerate(fit.axes):
-        sigma2 = fleet_variance(fit.noise_var[:, i], fit.noise_dof, ok)
-        p = chi2_two_sided(fit.noise_var[:, i], sigma2, fit.noise_dof)
-        rms = np.sqrt(fit.noise_var[:, i])
+        sigma2 = fleet_variance(noise_var[:, i], noise_dof, ok)
+        p = chi2_two_sided(noise_var[:, i], sigma2, noise_dof)
+        rms = np.sqrt(noise_var[:, i])
         out[f"noise {axis}"] = (p, rms, lambda d, rms=rms, s=sigma2, axis=axis: (
             f"noise {axis}: within-plateau RMS {rms[d]:.4g} vs the fleet's {np.sqrt(s):.4g}"))
         with np.errstate(invalid="ignore", divide="ignore"):
-            F = fit.lof_var[:, i] / fit.noise_var[:, i]
-            p_f = stats.f.sf(F, fit.lof_dof, fit.noise_dof)
-        p_f = np.where((fit.lof_dof > 0) & (fit.noise_dof > 0) & np.isfinite(F), p_f, np.nan)
-        means_only = (fit.noise_dof == 0) & (fit.lof_dof > 0)
+            F = lof_var[:, i] / noise_var[:, i]
+            p_f = stats.f.sf(F, lof_dof, noise_dof)
+        p_f = np.where((lof_dof > 0) & (noise_dof > 0) & np.isfinite(F), p_f, np.nan)
+        means_only = (noise_dof == 0) & (lof_dof > 0)
         if np.any(means_only & ok):          # plateau means: the lack of fit against the fleet's
-            s_lof = fleet_variance(fit.lof_var[:, i], np.where(means_only, fit.lof_dof, 0), ok)
-            p_f = np.where(means_only, chi2_two_sided(fit.lof_var[:, i], s_lof, fit.lof_dof), p_f)
+            s_lof = fleet_variance(lof_var[:, i], np.where(means_only, lof_dof, 0), ok)
+            p_f = np.where(means_only, chi2_two_sided(lof_var[:, i], s_lof, lof_dof), p_f)
         tested = ok & np.isfinite(p_f) & ~means_only
         if np.any(tested) and np.median(p_f[tested]) < FLEET_LACK_OF_FIT_P:
             # the typical unit is not followed: the model's order (too few
@@ -119,8 +120,8 @@ def screen_tests(fit):
             p_f = np.where(means_only, p_f, np.nan)
         out[f"lack of fit {axis}"] = (p_f, F, lambda d, F=F, axis=axis, i=i: (
             f"lack of fit {axis}: the model leaves F = {F[d]:.3g} x the noise between temperatures "
-            f"(F({fit.lof_dof[d]}, {fit.noise_dof[d]}))" if fit.noise_dof[d] else
-            f"lack of fit {axis}: residual of the plateau means {np.sqrt(fit.lof_var[d, i]):.4g}"))
+            f"(F({lof_dof[d]}, {noise_dof[d]}))" if noise_dof[d] else
+            f"lack of fit {axis}: residual of the plateau means {np.sqrt(lof_var[d, i]):.4g}"))
         for name, values, unit in (("drift", fit.drift[:, i], "/°C"), ("curvature", fit.curvature[:, i], "")):
             z, med, mad = robust_z(values, ok)
             p_z = np.where(np.isfinite(z), 2 * stats.norm.sf(np.abs(z)), np.nan)
@@ -161,8 +162,9 @@ def summary_columns(fit, flagged, reason):
         cols[f"rms_{a}"] = fit.rms[:, i]
     for i, a in enumerate(fit.axes):
         cols[f"drift_{a}"] = fit.drift[:, i]
+    noise_var = fit.at_screening_order()[0]
     for i, a in enumerate(fit.axes):
-        cols[f"noise_rms_{a}"] = np.sqrt(fit.noise_var[:, i])
+        cols[f"noise_rms_{a}"] = np.sqrt(noise_var[:, i])
     for i, a in enumerate(fit.axes):
         cols[f"curvature_{a}"] = fit.curvature[:, i]
     cols["flagged"] = flagged.astype(np.int64)
@@ -215,11 +217,12 @@ def fleet_plots(fit, flagged, spread, directory, worst=5):
     import matplotlib.pyplot as plt
     ok = fit.ok
     A = len(fit.axes)
+    noise_var = fit.at_screening_order()[0]
     fig, ax = plt.subplots(2, A, figsize=(4 * A, 6), squeeze=False)
     for i, a in enumerate(fit.axes):
         for row, (values, name, label) in enumerate(
                 ((fit.drift[:, i], f"drift {a}", f"drift {a} (units/°C)"),
-                 (np.sqrt(fit.noise_var[:, i]), f"noise {a}", f"within-plateau noise {a} (RMS, units)"))):
+                 (np.sqrt(noise_var[:, i]), f"noise {a}", f"within-plateau noise {a} (RMS, units)"))):
             finite = values[ok & np.isfinite(values)]
             if finite.size:
                 ax[row, i].hist(finite, bins=60, color="0.6")
