@@ -50,6 +50,7 @@ class Warn(IntFlag):
     CHAIN_MOTION = 32
     CHAIN_TARED = 64
     CHAIN_NOISE_FLOOR = 128
+    CHAIN_RAMP = 256
 
 
 _ERROR_TEXT = {
@@ -69,6 +70,7 @@ _WARN_TEXT = {
     Warn.CHAIN_MOTION: "motion detected",
     Warn.CHAIN_TARED: "tare applied",
     Warn.CHAIN_NOISE_FLOOR: "measured noise at its floor (a stuck sensor?)",
+    Warn.CHAIN_RAMP: "load moving steadily (a pour), followed",
 }
 
 

@@ -497,7 +497,7 @@ def test_filter_float_empty_cell_is_the_same_missing_value_as_nan(tmp_path):
         out = tmp_path / f"out{len(outs)}.csv"
         status, stdout, err = run_cli(["filter", str(src), "--column", "counts", "--status", "-o", str(out)])
         assert status == 0, err
-        assert "1 of them missing" in stdout
+        assert "(1 missing: empty or nan)" in stdout
         outs.append(out.read_text())
     assert outs[0] == outs[1]
 

@@ -27,6 +27,8 @@ typedef int16_t sig_status;
 #define SIG_CHAIN_TARED     ((sig_status)64)   /* weighing chain: a pending tare was applied on this sample */
 #define SIG_CHAIN_NOISE_FLOOR ((sig_status)128) /* weighing chain, measured noise: the estimate sits at its
                                                    floor (a stuck sensor, or noise below a quarter code) */
+#define SIG_CHAIN_RAMP      ((sig_status)256)  /* weighing chain: the load is moving steadily (a pour); the
+                                                   output follows the samples */
 
 /* ---- errors (nothing produced, state unchanged) ------------------------- */
 #define SIG_ERR_ARG         ((sig_status)-1)   /* NULL pointer or parameter out of range */

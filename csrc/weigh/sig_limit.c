@@ -19,6 +19,13 @@ static void track_reset(sig_limit_track *t)
     t->seeded = false;
 }
 
+static void track_accept(sig_limit_track *t)
+{
+    t->run = 0u;
+    t->side = 0;
+    t->seeded = true;
+}
+
 /* The decision both forms share once the typed code has placed the sample:
  * side +1 above Dc + A0, -1 below Dc - A0, 0 within (the first sample, which
  * seeds Dc, counts as within).  Returns SIG_OK (the sample becomes Dc),
@@ -78,6 +85,14 @@ sig_status sig_limit_set_ref_f(sig_limit_f *s, sig_real dc)
     return SIG_OK;
 }
 
+sig_status sig_limit_accept_f(sig_limit_f *s, sig_real x)
+{
+    if (!s || !sig_real_isfinite(x)) return SIG_ERR_ARG;
+    s->dc = x;
+    track_accept(&s->t);
+    return SIG_OK;
+}
+
 sig_status sig_limit_init_q(sig_limit_q *s, int32_t a0, uint8_t lockout_n)
 {
     if (!s || a0 <= 0) return SIG_ERR_ARG;
@@ -109,5 +124,13 @@ sig_status sig_limit_set_ref_q(sig_limit_q *s, int32_t dc)
     if (!s) return SIG_ERR_ARG;
     s->dc = dc;
     s->t.seeded = true;
+    return SIG_OK;
+}
+
+sig_status sig_limit_accept_q(sig_limit_q *s, int32_t x)
+{
+    if (!s) return SIG_ERR_ARG;
+    s->dc = x;
+    track_accept(&s->t);
     return SIG_OK;
 }

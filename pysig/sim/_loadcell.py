@@ -24,6 +24,12 @@ set, so a run contains exactly what its parameters say:
   drift_rw_uv          ... plus a random walk of this step per sqrt(second).
   load_steps           ((t_s, kg), ...): the load is piecewise constant,
                        `kg` from `t_s` on (put on and taken off by hand).
+  pours                ((t_s, duration_s, kg), ...): the load changes by
+                       `kg` at a constant rate over duration_s from t_s (a
+                       pour; no creep nor swing of its own).
+  bumps                ((t_s, duration_s, kg), ...): a force of peak `kg`
+                       (half a sine over duration_s) pressed on the pan,
+                       then the same load again.
   creep_frac           creep: after a load change of dm the cell reads an
   creep_tau_s          extra dm*creep_frac*(1 - exp(-dt/tau)) kg.
   nonlinearity_frac_fs terminal nonlinearity: a parabolic bow through 0 and
@@ -34,7 +40,11 @@ set, so a run contains exactly what its parameters say:
   ringing_tau_s        frequency ringing_hz and decay time ringing_tau_s.
 
 The CSV (write_run) has the columns t, counts, ref_kg; ref_kg is the load
-applied (without creep, ringing or noise): the truth a scale should show.
+applied (steps and pours, without creep, ringing or noise): the truth a
+scale should show.  simulate() also returns force_kg: what the cell
+carries, the load plus the bumps' force plus the creep each load step
+settles to (dm * creep_frac), without ringing, the creep's transient or
+noise: what a filter's output may be judged against while the load moves.
 """
 from dataclasses import dataclass, fields, replace
 
@@ -63,6 +73,8 @@ class LoadCellParams:
     # run
     duration_s: float = 30.0
     load_steps: tuple = ((0.0, 0.0),)
+    pours: tuple = ()
+    bumps: tuple = ()
     # disturbances, all off by default
     noise_uv_rms: float = 0.0
     vibration_g_rms: float = 0.0
@@ -109,6 +121,11 @@ class LoadCellParams:
         times = [float(t) for t, _ in self.load_steps]
         if times[0] > 0 or any(b <= a for a, b in zip(times, times[1:])):
             raise RangeError(f"LoadCellParams.load_steps times must start at <= 0 and increase, got {times}")
+        for name in ("pours", "bumps"):
+            for i, event in enumerate(getattr(self, name)):
+                if len(event) != 3 or not all(np.isfinite(float(v)) for v in event) or float(event[1]) <= 0:
+                    raise RangeError(f"LoadCellParams.{name}[{i}] must be (t_s, duration_s > 0, kg), "
+                                     f"all finite, got {event!r}")
 
     @property
     def lsb_v(self):
@@ -130,13 +147,26 @@ class LoadCellParams:
 
 
 def load_profile(params, t):
-    """Applied load (kg) at times t, and the (time, change) list of steps."""
+    """Applied load (kg) at times t (steps and pours), and the (time, change)
+    list of the steps."""
     times = np.array([float(s[0]) for s in params.load_steps])
     kgs = np.array([float(s[1]) for s in params.load_steps])
     idx = np.searchsorted(times, t, side="right") - 1
     ref = kgs[np.clip(idx, 0, None)]
+    for t0, dur, kg in params.pours:
+        ref = ref + float(kg) * np.clip((t - float(t0)) / float(dur), 0.0, 1.0)
     changes = [(times[i], kgs[i] - kgs[i - 1]) for i in range(1, len(times))]
     return ref, changes
+
+
+def bump_force(params, t):
+    """The bumps' force (kg) at times t: half a sine of each bump's peak."""
+    force = np.zeros(np.shape(t))
+    for t0, dur, kg in params.bumps:
+        u = (t - float(t0)) / float(dur)
+        inside = (u > 0) & (u < 1)
+        force[inside] += float(kg) * np.sin(np.pi * u[inside])
+    return force
 
 
 def simulate(params=None, seed=0, **overrides):
@@ -156,7 +186,8 @@ def simulate(params=None, seed=0, **overrides):
     -------
     dict
         t (s), counts (int32 ADC codes, clipped at the 24-bit rails),
-        ref_kg (the load applied: the truth a scale should show).
+        ref_kg (the load applied: the truth a scale should show), force_kg
+        (the load plus the bumps' force plus the creep each step settles to).
 
     Raises
     ------
@@ -199,8 +230,11 @@ def simulate(params=None, seed=0, **overrides):
     accel = rng.standard_normal(n)
 
     # mechanical part, in kg seen by the cell
-    kg = ref_kg.astype(float)
+    bump = bump_force(p, t)
+    kg = ref_kg.astype(float) + bump
+    force_kg = kg.copy()
     for t0, dm in changes:
+        force_kg[t >= t0] += dm * p.creep_frac
         dt = t - t0
         after = dt >= 0
         if p.creep_frac:
@@ -228,7 +262,7 @@ def simulate(params=None, seed=0, **overrides):
         uv += np.cumsum(walk) * p.drift_rw_uv / np.sqrt(p.rate_hz)
 
     codes = np.clip(np.rint(uv * 1e-6 / p.lsb_v), ADC_MIN, ADC_MAX).astype(np.int32)
-    return {"t": t, "counts": codes, "ref_kg": ref_kg}
+    return {"t": t, "counts": codes, "ref_kg": ref_kg, "force_kg": force_kg}
 
 
 def write_run(path, run):

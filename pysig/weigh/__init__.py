@@ -27,6 +27,7 @@ RECORDING_CHANNELS
 CODE_MAX                      the largest count magnitude the fixed-point form takes (24 bit)
 WARN_*, LIMIT_RESEEDED,       the per-sample flags the chain reports
 CHAIN_*
+EventCounter                  impulses told from samples of load motion, from the flags
 ============================  =======================================================
 
 Examples
@@ -40,10 +41,11 @@ True
 """
 from ._chain import AntiPulse, Chain, Kalman1, LimitFilter, NoiseEstimator, StabilityDetector
 from ._presets import (
-    CHAIN_MOTION, CHAIN_NOISE_FLOOR, CODE_MAX, CHAIN_TARED, LIMIT_RESEEDED, PRESETS, WARN_CLAMPED,
+    CHAIN_MOTION, CHAIN_NOISE_FLOOR, CHAIN_RAMP, CODE_MAX, CHAIN_TARED, LIMIT_RESEEDED, PRESETS, WARN_CLAMPED,
     WARN_REJECTED, chain_fixed_params, chain_params)
 from ._calibration import (Calibration, calibrate, find_plateaus, first_saturated, load_calibration,
                            saturated_count)
+from ._events import EventCounter
 from ._recording import LOADED as RECORDING_CHANNELS
 from ._recording import analyse_loaded as analyse_recording
 from ._recording import bundled_csv as bundled_recording
@@ -54,4 +56,5 @@ __all__ = ["Chain", "LimitFilter", "AntiPulse", "Kalman1", "StabilityDetector", 
            "chain_params", "chain_fixed_params", "calibrate", "Calibration", "load_calibration",
            "find_plateaus", "first_saturated", "saturated_count", "analyse_recording", "load_recording",
            "plot_recording", "bundled_recording", "RECORDING_CHANNELS", "CODE_MAX",
-           "WARN_CLAMPED", "WARN_REJECTED", "LIMIT_RESEEDED", "CHAIN_MOTION", "CHAIN_TARED", "CHAIN_NOISE_FLOOR"]
+           "WARN_CLAMPED", "WARN_REJECTED", "LIMIT_RESEEDED", "CHAIN_MOTION", "CHAIN_TARED", "CHAIN_NOISE_FLOOR", "CHAIN_RAMP",
+           "EventCounter"]

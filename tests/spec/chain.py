@@ -25,7 +25,7 @@ from pysig.errors import NonFiniteError, RangeError
 # parameters) are configuration, not filter algorithm: the spec runs from the
 # library's one parameter set (pysig.weigh._presets) and specifies the stages.
 from pysig.weigh._presets import (  # noqa: F401  (re-exported for the tests)
-    AUTO, CHAIN_MOTION, CHAIN_NOISE_FLOOR, CHAIN_TARED, CODE_MAX, ERR_NONFINITE, INT32_MAX,
+    AUTO, CHAIN_MOTION, CHAIN_NOISE_FLOOR, CHAIN_RAMP, CHAIN_TARED, CODE_MAX, ERR_NONFINITE, INT32_MAX,
     INT32_MIN, LB_PER_KG, LIMIT_RESEEDED, OK, P0_MAX_Q16, PARAM_NAMES, PRESETS, Q30, Q_MAX_Q30,
     WARN_CLAMPED, WARN_REJECTED, WINDOW_MAX, _check, _finite, _round_int32, chain_fixed_params,
     chain_params, kalman_fixed_params)
@@ -79,6 +79,11 @@ class LimitFilter:
 
     def set_ref(self, dc):
         self.Dc, self.seeded = dc, True
+
+    def accept(self, x):
+        """Take x as the reference and end the rejection run (the chain saw a
+        load change in the run: a ramp)."""
+        self.Dc, self.seeded, self.run, self.side = x, True, 0, 0
 
     def _step(self, x):
         """One sample in the stage's own numbers; returns (out, status)."""
@@ -478,7 +483,10 @@ class Chain:
             stage.reset()
         self.offset_raw, self.out_raw, self.motion_run = 0, 0, 0
         self.holdoff, self.frozen, self.rejected_prev = 0, 0, False
-        self.tare_pending, self.stable, self.has_out, self.status = False, False, False, OK
+        self.tare_pending, self.stable, self.settled, self.has_out, self.status = False, False, False, False, OK
+        self.ramp, self.missed, self.paused, self.followed = False, False, False, False
+        self.slope, self.last, self.prev_x, self.origin, self.pred = 0, 0, 0, 0, 0
+        self.anchor, self.drift_age, self.drifting = 0, 0, True
         self._set_thresholds()
 
     def _set_thresholds(self):
@@ -486,6 +494,8 @@ class Chain:
         if self.noise_auto:
             (self.limit.a0, self.motion_band, self.st.step_value, self.zero_band,
              self.zero_rate) = noise_thresholds(self.noise.sigma, self.fixed)
+            s = self.noise.sigma
+            self.near_band = (s << 1) + s if self.fixed else 3.0 * s
             if self.noise.count == 0:           # no difference seen yet: take every sample
                 self.limit.a0 = 2 * CODE_MAX if self.fixed else 6.0 * NOISE_MAX_F
 
@@ -503,8 +513,9 @@ class Chain:
         restart or re-seed, then `window` samples of hold-off, or a motion run
         under way).  A count goes up on each skipped sample and down on each
         other one; from NOISE_FROZEN_MAX on, so much motion is noise and the
-        estimator sees every sample, with its warm-up steps again."""
-        event = (ret & (CHAIN_MOTION | LIMIT_RESEEDED)) != 0
+        estimator sees every sample, with its warm-up steps again.  A ramp
+        sample is never noise: skipped, the count left as it is."""
+        event = (ret & (CHAIN_MOTION | LIMIT_RESEEDED | CHAIN_RAMP)) != 0
         rejected = (ret & WARN_REJECTED) != 0
         if event:
             self.holdoff = self.ap.n
@@ -512,7 +523,9 @@ class Chain:
             self.holdoff -= 1
         quiet = not (event or rejected or self.rejected_prev) and self.holdoff == 0 and self.motion_run == 0
         self.rejected_prev = rejected
-        if quiet:
+        if ret & CHAIN_RAMP:
+            update = False
+        elif quiet:
             self.frozen, update = max(self.frozen - 1, 0), True
         else:
             self.frozen = min(self.frozen + 1, 2 * NOISE_FROZEN_MAX)
@@ -526,23 +539,153 @@ class Chain:
     def _kx(self):
         return self.kf.xq if self.fixed else self.kf._x
 
+    # ---- ramps (auto mode): a pour is a load change, not a glitch ----------------
+    def _diff(self, a, b):
+        return sat32(a - b) if self.fixed else a - b
+
+    def _ramp_before(self, x):
+        """While a ramp is followed the limit judges the sample against the
+        ramp's prediction (last + slope); a sample nearer the last followed
+        one than the prediction, within A0/2 of it, says the load may have
+        stopped: the first such sample is followed (judged against the last
+        one, the slope kept), the second in a row ends the ramp (returns
+        True) and is taken."""
+        if not self.ramp:
+            return False
+        step = self.slope + self.slope if self.missed else self.slope     # one sample held: two ahead
+        if self.fixed:
+            p, half = clamp_code(self.last + step), self.limit.a0 >> 1
+        else:
+            p, half = self.last + step, self.limit.a0 * 0.5
+            p = p if math.isfinite(p) else self.last
+        d_last, d_pred = self._diff(x, self.last), self._diff(x, p)
+        if d_last <= half and -d_last <= half and abs(d_last) <= abs(d_pred):
+            self.limit.set_ref(self.last)
+            if self.paused:
+                self.ramp = self.missed = self.paused = False
+                return True
+            self.paused = True
+            return False
+        self.paused = False
+        self.pred = p
+        self.limit.set_ref(p)
+        return False
+
+    def _ramp_after(self, x, y, ret):
+        """After the limit: a second rejection on one side that lies further out
+        than the first by more than A0/2 starts a ramp (both samples moved on:
+        a pour, not a glitch pair at one level; and the two steps out, from Dc
+        to the first and from the first to the second, within a factor 4 of
+        each other: not a glitch on a load step); a followed ramp takes each
+        sample within A0 of its prediction, last + slope, the slope moving half
+        way to each new difference (kept across one held sample).  A rejection back within A0 of where the ramp began ends it
+        and the sample is taken (a glitch pair or a bump that came back);
+        otherwise, if no sample has been followed since the start and the
+        sample is nearer where the ramp began than its prediction, and no
+        farther from it than the ramp's last value (not a glitch itself), the
+        start was a glitch pair: the level before it is held and the window starts
+        again from it (a re-seed); else the last followed value is held, and a
+        second rejection in a row ends the ramp.  Returns (y, status)."""
+        rejected = (ret & WARN_REJECTED) != 0
+        finite = self.fixed or math.isfinite(x)
+        if self.ramp:
+            if ret & LIMIT_RESEEDED:
+                self.ramp = self.missed = self.paused = False
+            elif not rejected:
+                if not (self.missed or self.paused):    # the slope: half way to the last difference
+                    d = self._diff(self._diff(x, self.last), self.slope)
+                    self.slope += d >> 1 if self.fixed else d * 0.5
+                self.last, self.missed, self.followed = x, False, True
+                ret |= CHAIN_RAMP
+            else:
+                d = self._diff(x, self.origin) if finite else math.nan
+                if d <= self.limit.a0 and -d <= self.limit.a0:
+                    self.ramp = self.missed = self.paused = False
+                    self.limit.accept(x)
+                    y, ret = x, (ret & ~WARN_REJECTED) | LIMIT_RESEEDED
+                elif (not self.followed and abs(self._diff(x, self.pred)) > abs(d)
+                      and abs(d) <= abs(self._diff(self.last, self.origin))):
+                    self.ramp = self.missed = self.paused = False
+                    self.limit.set_ref(self.origin)
+                    y, ret = self.origin, ret | LIMIT_RESEEDED
+                else:
+                    y = self.last
+                    if self.missed:
+                        self.ramp = self.missed = self.paused = False
+                    else:
+                        self.missed = True
+                        ret |= CHAIN_RAMP
+        elif rejected and finite and self.limit.run >= 2:
+            half = self.limit.a0 >> 1 if self.fixed else self.limit.a0 * 0.5
+            moved = self._diff(x, self.prev_x) * self.limit.side
+            before = self._diff(self.prev_x, self.limit.Dc) * self.limit.side
+            if moved > half and moved * 4 >= before and moved <= before * 4:
+                self.origin = self.limit.Dc
+                self.limit.accept(x)
+                self.ramp, self.missed, self.paused, self.followed = True, False, False, False
+                self.slope, self.last = self._diff(x, self.prev_x), x
+                y, ret = x, (ret & ~WARN_REJECTED) | LIMIT_RESEEDED | CHAIN_RAMP
+        if finite:
+            self.prev_x = x
+        return y, ret
+
+    def _drift(self, xk):
+        """auto mode: the output's drift over blocks of `window` samples from
+        the first full window after a restart; `drifting` while the last block
+        moved it by more than sigma (a load still creeping or swinging out
+        slower than the stability step sees), and until one block is seen."""
+        if self.ap.count < self.ap.n:
+            self.anchor, self.drift_age, self.drifting = xk, 0, True
+            return
+        self.drift_age += 1
+        if self.drift_age >= self.ap.n:
+            d = self._diff(xk, self.anchor)
+            self.drifting = (min(abs(d), INT32_MAX) if self.fixed else abs(d)) > self.noise.sigma
+            self.anchor, self.drift_age = xk, 0
+
+    def _backed(self, ret, y_k, m_k, xk):
+        """auto mode: the stability detector's verdict counts only when the
+        output is backed by the samples - none replaced, held, re-seeded or
+        followed as a ramp on this sample, a full window since the last
+        restart and no drift in the last block (_drift), no motion run under
+        way, the sample within 3 sigma of the output and the window's trimmed
+        mean within 1 sigma of it (a load that has begun to move, faster than
+        the output follows)."""
+        if ret & (WARN_REJECTED | LIMIT_RESEEDED | CHAIN_MOTION | CHAIN_RAMP):
+            return False
+        if self.ap.count < self.ap.n or self.motion_run or self.drifting:
+            return False
+        d, e = self._diff(y_k, xk), self._diff(m_k, xk)
+        if self.fixed:
+            d, e = min(abs(d), INT32_MAX), min(abs(e), INT32_MAX)
+        return abs(d) <= self.near_band and abs(e) <= self.noise.sigma
+
     def _step(self, x):
         """One sample (code or float); returns (out in Q7 or float, stable, status)."""
         ret = OK
         if self.fixed and abs(x) > CODE_MAX:
             x, ret = clamp_code(x), WARN_CLAMPED
+        ramp_ended = self.noise_auto and self._ramp_before(x)
         y, st = self.limit._step(x)
         if st < 0:
             return None, False, st
         ret |= st
+        if self.noise_auto:
+            y, ret = self._ramp_after(x, y, ret)
         if ret & LIMIT_RESEEDED:
             self.ap.reset()
             if self.motion_band > 0:
                 self._restart_kf()
             self.motion_run = 0
+        if self.ramp or ramp_ended:             # the window holds the ramp's last sample only
+            self.ap.reset()
+            self.motion_run = 0
+        if ramp_ended:
+            self._restart_kf()
+            ret |= CHAIN_MOTION
         m, _ = self.ap._step(y)
         m_k = m * 128 if self.fixed else m
-        if self.motion_band > 0 and self.kf.seeded:
+        if self.motion_band > 0 and self.kf.seeded and not self.ramp:
             e = sat32(m_k - self._kx()) if self.fixed else m_k - self._kx()
             if (min(abs(e), INT32_MAX) if self.fixed else abs(e)) > self.motion_band:
                 self.motion_run = min(self.motion_run + 1, 255)
@@ -556,10 +699,14 @@ class Chain:
                 self.motion_run = 0
                 ret |= CHAIN_MOTION
         self.limit.set_ref(m)
-        if self.noise_auto and (self.ap.count < self.ap.n or not self.stable):
+        if self.noise_auto and (self.ap.count < self.ap.n or not self.settled):
             self.kf.reset()             # settling: the window's trimmed mean is the estimate
         xk = self.kf._step(m_k)
-        stab = self.st._step(xk)
+        self.settled = stab = self.st._step(xk)
+        if self.noise_auto:
+            self._drift(xk)
+        if self.noise_auto and stab:
+            stab = self._backed(ret, y * 128 if self.fixed else y, m_k, xk)
         if stab:
             if self.tare_pending:
                 self.offset_raw, self.tare_pending = xk, False
