@@ -7,16 +7,31 @@ finds the first offending cell, so the message still says where.  Rows are
 counted as in a spreadsheet: in a CSV the header is row 1 and the first data
 row is row 2; a Parquet file has no header row, so its first row is row 1.
 
+CSV as people export them (the one place these rules live):
+
+* a UTF-8 byte-order mark (Excel's "CSV UTF-8") is stripped;
+* the delimiter is detected from the header row: the most frequent of
+  ``,`` ``;`` and tab (European spreadsheets write ``;``), unless one is
+  forced (`csv_delimiter`, the CLI's ``--delimiter``); decimal commas are
+  not read (such a cell is "not a number", named by row and column);
+* a missing value is an empty cell or a cell holding ``nan``, ``NaN``,
+  ``NAN``, ``-nan``, ``NA`` or ``N/A`` (and a null in Parquet): every one
+  is the same missing value, NaN in the returned column, so every command
+  treats it alike: commands that need each value refuse it (NonFiniteError,
+  "missing value (empty or nan)", naming row and column), and the float
+  filter replaces it as an impulse and counts it.
+
 Output is written to a temporary file beside the target and renamed into
 place, so a failure never leaves a partial file (see `atomic_path`).
 Streaming (bounded memory, chunk by chunk) is in pysig.io_stream."""
 
-__all__ = ["read_csv", "read_table", "read_header", "write_csv", "read_json", "write_json", "atomic_output", "atomic_path", "check_time_column", "check_finite", "numeric_column", "from_numpy", "to_table", "row_label", "is_parquet"]
+__all__ = ["csv_delimiter", "MISSING_VALUES", "MISSING_TEXT", "read_csv", "read_table", "read_header", "write_csv", "read_json", "write_json", "atomic_output", "atomic_path", "check_time_column", "check_finite", "numeric_column", "from_numpy", "to_table", "row_label", "is_parquet"]
 import csv
 import json
 import os
 import tempfile
 from contextlib import contextmanager
+from contextvars import ContextVar
 
 import numpy as np
 import pyarrow as pa
@@ -27,6 +42,42 @@ import pyarrow.parquet as pq
 from .errors import InputFileError, ModelFileError, NonFiniteError, OutputFileError
 
 PARQUET_SUFFIXES = (".parquet", ".pq")
+DELIMITERS = (",", ";", "\t")
+MISSING_VALUES = ["", "nan", "NaN", "NAN", "-nan", "NA", "N/A"]
+MISSING_TEXT = "missing value (empty or nan)"
+_forced_delimiter = ContextVar("pysig_csv_delimiter", default=None)
+
+
+@contextmanager
+def csv_delimiter(delimiter):
+    """Within the block, read every CSV with `delimiter` (None: detect it).
+
+    Examples
+    --------
+    >>> _ = open("semi.csv", "w").write("t;x\\n0;1.5\\n1;2.5\\n")
+    >>> read_csv("semi.csv")["x"]                  # detected
+    array([1.5, 2.5])
+    >>> with csv_delimiter(","):
+    ...     read_header("semi.csv")
+    ['t;x']
+    """
+    if delimiter is not None and delimiter not in DELIMITERS:
+        raise InputFileError(f"--delimiter must be ',', ';' or 'tab', got {delimiter!r}")
+    token = _forced_delimiter.set(delimiter)
+    try:
+        yield
+    finally:
+        _forced_delimiter.reset(token)
+
+
+def detect_delimiter(line):
+    """The forced delimiter, else the most frequent of DELIMITERS in the
+    header `line` (',' when it holds none: a one-column file)."""
+    forced = _forced_delimiter.get()
+    if forced is not None:
+        return forced
+    counts = [line.count(d) for d in DELIMITERS]
+    return DELIMITERS[counts.index(max(counts))] if max(counts) else ","
 
 
 def is_parquet(path):
@@ -41,14 +92,16 @@ def row_label(path, index):
 
 # ---- header ------------------------------------------------------------------
 def _csv_header(path):
-    """(names, lines before the data): the first non-blank line, parsed."""
+    """(names, lines before the data, delimiter): the first non-blank line,
+    parsed; a byte-order mark is not part of the first name."""
     try:
-        with open(path, newline="") as fh:
+        with open(path, newline="", encoding="utf-8-sig") as fh:
             skipped = 0
             for line in fh:
                 skipped += 1
                 if line.strip():
-                    return [h.strip() for h in next(csv.reader([line]))], skipped
+                    delim = detect_delimiter(line)
+                    return [h.strip() for h in next(csv.reader([line], delimiter=delim))], skipped, delim
     except OSError as exc:
         raise InputFileError(f"{path}: cannot read: {exc.strerror}") from None
     except (UnicodeDecodeError, csv.Error) as exc:
@@ -74,7 +127,7 @@ def read_header(path):
     if is_parquet(path):
         names = list(_parquet_file(path).schema_arrow.names)
     else:
-        names, _ = _csv_header(path)
+        names, _, _ = _csv_header(path)
     seen = set()
     for j, name in enumerate(names):
         if name in seen:
@@ -95,8 +148,10 @@ def require_columns(path, header, wanted):
 def first_unconvertible(strings):
     """Index of the first cell of a string array that does not convert to
     float64 (as pyarrow converts), or None.  Halves the range with one
-    vectorised cast per step: O(n) work, no Python loop over cells."""
+    vectorised cast per step: O(n) work, no Python loop over cells.  A
+    missing value (MISSING_VALUES) converts (to NaN)."""
     strings = pc.utf8_trim_whitespace(strings)
+    strings = pc.if_else(pc.is_in(strings, pa.array(MISSING_VALUES)), "nan", strings)
 
     def ok(lo, hi):
         try:
@@ -146,8 +201,8 @@ def float64_values(array):
 
 # ---- numeric columns ---------------------------------------------------------
 def numeric_column(path, name, array, offset=0):
-    """A pyarrow column as float64 numpy; InputFileError (file, row, column)
-    for a type that is not numbers (Parquet) or a null cell."""
+    """A pyarrow column as float64 numpy, a missing value (null) as NaN;
+    InputFileError (file, row, column) for a type that is not numbers."""
     typ = array.type
     if not (pa.types.is_floating(typ) or pa.types.is_integer(typ) or pa.types.is_decimal(typ)):
         if pa.types.is_string(typ) or pa.types.is_large_string(typ):
@@ -158,33 +213,34 @@ def numeric_column(path, name, array, offset=0):
         else:
             raise InputFileError(f"{path}: column '{name}' holds {typ}, not numbers "
                                  f"(expected an integer or floating-point column)")
-    if array.null_count:
-        i = int(np.flatnonzero(array.is_null().to_numpy(zero_copy_only=False))[0])
-        raise InputFileError(f"{path}: row {row_label(path, offset + i)}, column '{name}': "
-                             f"empty (null) cell where a number is needed")
+    if array.null_count:                        # a missing value: NaN, as an empty or nan cell
+        array = pc.fill_null(array.cast(pa.float64()), float("nan"))
     return float64_values(array)
 
 
 def check_finite(path, name, x, offset=0):
+    """NonFiniteError naming the first missing value (NaN) or infinity."""
     bad = np.flatnonzero(~np.isfinite(x))
     if bad.size:
         i = int(bad[0])
-        raise NonFiniteError(f"{path}: row {row_label(path, offset + i)}, column '{name}': "
-                             f"non-finite value {float(x[i])!r}")
+        what = MISSING_TEXT if np.isnan(x[i]) else f"non-finite value {float(x[i])!r}"
+        raise NonFiniteError(f"{path}: row {row_label(path, offset + i)}, column '{name}': {what}")
 
 
 # ---- whole tables ------------------------------------------------------------
-def csv_options(path, header, skipped, numeric, strings=(), block_size=None, threads=True):
-    """pyarrow CSV options: our stripped header, `numeric` columns as
-    float64 (no text counts as null: 'nan' is NaN, an empty cell an error),
-    `strings` as text, other columns inferred."""
+def csv_options(path, header, skipped, numeric, strings=(), block_size=None, threads=True,
+                delimiter=",", row_handler=None):
+    """pyarrow CSV options (read, convert, parse): our stripped header,
+    `numeric` columns as float64 with MISSING_VALUES as null (missing),
+    `strings` as text, other columns inferred; the file's delimiter."""
     types = {n: pa.float64() for n in numeric}
     types.update({n: pa.string() for n in strings})
     read = pcsv.ReadOptions(column_names=header, skip_rows=skipped, use_threads=threads,
                             **({"block_size": block_size} if block_size else {}))
-    convert = pcsv.ConvertOptions(column_types=types, null_values=[], strings_can_be_null=False,
+    convert = pcsv.ConvertOptions(column_types=types, null_values=MISSING_VALUES, strings_can_be_null=False,
                                   quoted_strings_can_be_null=False)
-    return read, convert
+    parse = pcsv.ParseOptions(delimiter=delimiter, invalid_row_handler=row_handler)
+    return read, convert, parse
 
 
 def _short_row(path, header, info):
@@ -209,28 +265,30 @@ def invalid_row_catcher():
     return handler, found
 
 
-def _read_csv_table(path, header, skipped, wanted, numeric, strings, threads=True):
-    read, convert = csv_options(path, header, skipped, numeric, strings, threads=threads)
-    convert.include_columns = list(wanted)
+def _read_csv_table(path, header, skipped, delimiter, wanted, numeric, strings, threads=True):
     handler, found = invalid_row_catcher()
+    read, convert, parse = csv_options(path, header, skipped, numeric, strings, threads=threads,
+                                       delimiter=delimiter, row_handler=handler)
+    convert.include_columns = list(wanted)
     try:
-        return pcsv.read_csv(path, read_options=read, convert_options=convert,
-                             parse_options=pcsv.ParseOptions(invalid_row_handler=handler))
+        return pcsv.read_csv(path, read_options=read, convert_options=convert, parse_options=parse)
     except pa.ArrowInvalid as exc:
         if found:
             if found[0].number is None and threads:     # row numbers are known single-threaded only
-                return _read_csv_table(path, header, skipped, wanted, numeric, strings, threads=False)
+                return _read_csv_table(path, header, skipped, delimiter, wanted, numeric, strings,
+                                       threads=False)
             raise _short_row(path, header, found[0]) from None
-        raise locate_conversion_error(path, header, skipped, numeric, exc) from None
+        raise locate_conversion_error(path, header, skipped, delimiter, numeric, exc) from None
 
 
-def locate_conversion_error(path, header, skipped, numeric, exc):
+def locate_conversion_error(path, header, skipped, delimiter, numeric, exc):
     """The named error for a failed CSV conversion: scan the numeric columns
-    as text for the first cell that is not a number."""
+    as text for the first cell that is not a number (a missing value is not
+    an error here)."""
     for name in numeric:
-        read, convert = csv_options(path, header, skipped, (), strings=(name,))
+        read, convert, parse = csv_options(path, header, skipped, (), strings=(name,), delimiter=delimiter)
         convert.include_columns = [name]
-        texts = pcsv.read_csv(path, read_options=read, convert_options=convert)[name]
+        texts = pcsv.read_csv(path, read_options=read, convert_options=convert, parse_options=parse)[name]
         offset = 0
         for chunk in texts.chunks:
             i = first_unconvertible(chunk)
@@ -281,8 +339,8 @@ def read_table(path, columns=None, numeric=None, strings=()):
                 raise InputFileError(f"{path}: column '{n}' holds {out[n].type}, expected text or integers")
         table = pa.table(out)
     else:
-        _, skipped = _csv_header(path)
-        table = _read_csv_table(path, header, skipped, wanted, numeric, strings)
+        _, skipped, delimiter = _csv_header(path)
+        table = _read_csv_table(path, header, skipped, delimiter, wanted, numeric, strings)
         table = table.select(wanted)
     if table.num_rows == 0:
         raise InputFileError(f"{path}: header only, no data rows")
@@ -315,7 +373,8 @@ def read_csv(path, columns=None, allow_nonfinite=False):
         a header-only file, a missing column or a name given twice, a
         non-numeric or empty cell.
     NonFiniteError
-        A NaN or inf cell, unless `allow_nonfinite`.
+        A missing value (an empty or nan cell) or an inf cell, unless
+        `allow_nonfinite` (then a missing value is NaN).
 
     Examples
     --------

@@ -72,15 +72,14 @@ def _parquet_batches(path, wanted, batch_rows):
 
 
 def _csv_batches(path, header, wanted, numeric, strings, block_bytes):
-    _, skipped = _csv_header(path)
-    read, convert = csv_options(path, header, skipped, numeric, strings, block_size=block_bytes,
-                                threads=False)
-    convert.include_columns = wanted
+    _, skipped, delimiter = _csv_header(path)
     handler, found = invalid_row_catcher()
+    read, convert, parse = csv_options(path, header, skipped, numeric, strings, block_size=block_bytes,
+                                       threads=False, delimiter=delimiter, row_handler=handler)
+    convert.include_columns = wanted
     offset = 0
     try:
-        reader = pcsv.open_csv(path, read_options=read, convert_options=convert,
-                               parse_options=pcsv.ParseOptions(invalid_row_handler=handler))
+        reader = pcsv.open_csv(path, read_options=read, convert_options=convert, parse_options=parse)
         for batch in reader:
             if batch.num_rows:
                 yield offset, batch.select(wanted)
@@ -88,20 +87,21 @@ def _csv_batches(path, header, wanted, numeric, strings, block_bytes):
     except pa.ArrowInvalid as exc:
         if found:
             raise _short_row(path, header, found[0]) from None
-        raise _stream_conversion_error(path, header, skipped, numeric, offset, exc) from None
+        raise _stream_conversion_error(path, header, skipped, delimiter, numeric, offset, exc) from None
     if offset == 0:
         raise InputFileError(f"{path}: header only, no data rows")
 
 
-def _stream_conversion_error(path, header, skipped, numeric, offset, exc):
+def _stream_conversion_error(path, header, skipped, delimiter, numeric, offset, exc):
     """The named error for a conversion that failed mid-stream: a bad cell in
     a numeric column (found by re-reading that column as text, in chunks), or
     a column whose type changed after the first block."""
     for name in numeric:
-        read, convert = csv_options(path, header, skipped, (), strings=(name,), threads=False)
+        read, convert, parse = csv_options(path, header, skipped, (), strings=(name,), threads=False,
+                                           delimiter=delimiter)
         convert.include_columns = [name]
         start = 0
-        for batch in pcsv.open_csv(path, read_options=read, convert_options=convert):
+        for batch in pcsv.open_csv(path, read_options=read, convert_options=convert, parse_options=parse):
             i = first_unconvertible(batch.column(0))
             if i is not None:
                 return not_a_number(path, start + i, name, batch.column(0)[i].as_py())

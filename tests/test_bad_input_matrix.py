@@ -346,6 +346,53 @@ CASES += [
 ]
 
 
+def case_lost_model(fmt):
+    """export of a model an older pysig wrote: value scale 1 on readings in
+    tesla, so its fixed-point form has lost the drift."""
+    def build(tmp, model):
+        from pysig.tcomp._poly_fit import fit_tcomp
+        t = np.repeat([-10.0, 10.0, 30.0, 50.0, 70.0], 8)
+        fit_tcomp(t, {"bx": 2e-5 + 1e-7 * (t - 25)}, order=2).save(tmp / "old.json")
+        out = tmp / f"old.{fmt}"
+        return ["export", str(tmp / "old.json"), "--format", "c" if fmt == "h" else "image", "-o", str(out)], out
+    return build
+
+
+TESLA = "temp,bx\n" + "".join(f"{t},{2e-5 + 1e-7 * (t - 25) + 1e-9 * (i % 3):.6e}\n"
+                                for t in (-10, 10, 30, 50, 70) for i in range(6))
+HOT = "temp,x\n" + "".join(f"{t},{150 + i}\n" for t in (200, 210, 220) for i in range(4))
+
+CASES += [
+    # a missing value: an empty cell is the same as nan, in every command
+    ("fit-empty-reading", case_fit(lambda: _with_row(CHAMBER, 5, ["25", ""])),
+     NonFiniteError, ["in.csv", "row 7", "'x'", "missing value"]),
+    ("apply-empty-temperature", case_text("apply", "temp,x\n25,1\n,2\n"),
+     NonFiniteError, ["in.csv", "row 3", "'temp'", "missing value"]),
+    ("filter-fixed-empty", case_text("filter-fixed", WEIGH.replace("\n1.0,1001\n", "\n1.0,\n")),
+     NonFiniteError, ["in.csv", "row 12", "'counts'", "missing value"]),
+    ("calibrate-scale-empty", case_text("calibrate-scale", SCALE.replace("\n5,", "\n5,\n5,", 1)),
+     NonFiniteError, ["in.csv", "'counts'", "missing value"]),
+    ("refine-empty-reading", case_text("refine", REFINE_HEADER + "\n".join(_with_row(REFINE, 10, "10.5,21,,0")) + "\n"),
+     NonFiniteError, ["in.csv", "row 12", "'x'", "missing value"]),
+    ("filter-bad-delimiter", case_text("filter", WEIGH, extra=["--delimiter", "|"]),
+     InputFileError, ["--delimiter"]),
+    # the reading's value scale and the units the file carries
+    ("fit-value-scale-loses-drift", case_text("fit", TESLA.replace("bx", "x"), extra=["--value-scale", "1"]),
+     RangeError, ["in.csv", "lost its float form", "--value-scale"]),
+    ("fit-value-scale-beyond-int16", case_text("fit", TESLA.replace("bx", "x"), extra=["--value-scale", "1e10"]),
+     RangeError, ["in.csv", "leaves int16", "--value-scale"]),
+    ("export-lost-float-form", case_lost_model("h"), RangeError, ["lost its float form", "--value-scale"]),
+    ("export-image-lost-float-form", case_lost_model("bin"), RangeError, ["lost its float form"]),
+    ("apply-contradicting-temp-unit", case_text("apply", "temp,x\n25,1\n", extra=["--temp-unit", "raw"]),
+     InputFileError, ["--temp-unit raw", "contradicts"]),
+    ("apply-mostly-clamped", case_text("apply", HOT), RangeError,
+     ["in.csv", "outside the calibrated range", "Likely cause"]),
+    ("simulate-output-twice", case_args("simulate", "extra.csv"), InputFileError, ["-o OUT.csv"]),
+    ("fleet-fit-bad-false-flag-rate", case_fleet(FLEET, extra=["--false-flag-rate", "2"]), RangeError,
+     ["--false-flag-rate", "2"]),
+]
+
+
 # Cases the spec demands but another owner's code does not do yet: each is an
 # xfail(strict=True) naming the file and the fix, so the test turns red (XPASS)
 # the moment the fix lands and the entry must go.  Listed in the report.
@@ -443,6 +490,20 @@ def test_filter_float_nan_is_an_impulse_not_an_error(tmp_path):
     assert all(np.isfinite(float(r[filt])) for r in rows[1:])
     assert int(rows[11][stat]) & 4 and int(rows[21][stat]) & 4
     assert "2 samples replaced" in stdout
+
+
+def test_filter_float_empty_cell_is_the_same_missing_value_as_nan(tmp_path):
+    """An empty cell and a nan cell are one missing value: the same output, counted."""
+    outs = []
+    for cell in ("nan", ""):
+        src = tmp_path / f"in{len(outs)}.csv"
+        src.write_text(WEIGH.replace("\n1.0,1001\n", f"\n1.0,{cell}\n"))
+        out = tmp_path / f"out{len(outs)}.csv"
+        status, stdout, err = run_cli(["filter", str(src), "--column", "counts", "--status", "-o", str(out)])
+        assert status == 0, err
+        assert "(1 missing: empty or nan)" in stdout
+        outs.append(out.read_text())
+    assert outs[0] == outs[1]
 
 
 # ---- Python API ---------------------------------------------------------------

@@ -67,7 +67,7 @@ def test_filter_status_column_and_nan_as_impulse(tmp_path):
     ("counts\n", "header only"),
     ("other\n1\n2\n", "row 1 (header), column 'counts': missing"),
     ("counts\n1\n2\nabc\n", "row 4, column 'counts': not a number"),
-    ("t,counts\n0,1\n1,\n", "row 3, column 'counts'"),
+    ("t,counts\n0,1\n1\n", "row 3, column 'counts'"),          # a short row (an empty cell is missing)
 ])
 def test_filter_bad_input_one_line_exit_2_no_output(tmp_path, capsys, content, needle):
     status, src, out = filter_csv(tmp_path, content)

@@ -173,7 +173,7 @@ int main(void) {
 
 @pytest.mark.parametrize("setup, args, status, text", [
     ("two_temps", ["fit", "IN", "--columns", "x", "--order", "2", "-o", "OUT"], 4, "needs at least 3"),
-    ("nan", ["fit", "IN", "--columns", "x", "-o", "OUT"], 3, "non-finite"),
+    ("nan", ["fit", "IN", "--columns", "x", "-o", "OUT"], 3, "missing value"),
     ("ok", ["fit", "IN", "--columns", "nope", "-o", "OUT"], 2, "missing column"),
     ("ok", ["fit", "IN", "--columns", "x", "--order", "seven", "-o", "OUT"], 2, "--order"),
     ("ok", ["fit", "IN", "--columns", "x", "--order", "9", "-o", "OUT"], 7, "order must be"),

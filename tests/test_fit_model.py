@@ -171,10 +171,10 @@ def test_thin_block_and_gap_warnings(tmp_path, capsys):
 def test_fixed_point_refusal_names_a_model_that_fits():
     t = np.linspace(-40.0, 125.0, 2000)
     y = 60000.0 * ((t + 40.0) / 165.0) ** 2 - 30000.0          # steep, noise-free: CV RMS ~ 0
-    with pytest.raises(RangeError, match=r"would fit") as e:
-        tmodel.fit_model(t, {"x": y}, spec="poly:2")
+    with pytest.raises(RangeError, match=r"would fit") as e:      # at value scale 1: the readings as codes
+        tmodel.fit_model(t, {"x": y}, spec="poly:2", value_scale=1.0)
     assert "table:" in str(e.value) or "poly:" in str(e.value)
-    r = tmodel.fit_model(t, {"x": y}, spec="auto")              # auto moves on to one that fits
+    r = tmodel.fit_model(t, {"x": y}, spec="auto", value_scale=1.0)     # auto moves on to one that fits
     assert any("the most accurate one that does" in line for line in r.lines)
     assert max(getattr(r.model, "error_lsb", None) or r.model.error_bound_lsb) <= 0.5
 
@@ -209,12 +209,13 @@ def test_out_of_range_is_clamped_and_flagged_by_the_firmware(tmp_path):
         mj, img = tmp_path / "m.json", tmp_path / "m.bin"
         assert main(["fit", str(src), "--columns", "x", "--model", spec, "-o", str(mj)]) == 0
         assert main(["export", str(mj), "--format", "image", "-o", str(img)]) == 0
-        wide = write_csv(tmp_path / "w.csv", {"temp": [-60.0, 5.0, 25.0, 45.0, 400.0], "x": [0, 0, 0, 0, 0]})
+        wide = write_csv(tmp_path / "w.csv", {"temp": [-60.0, 5.0, 25.0, 45.0, 400.0, 15.0, 20.0, 30.0, 35.0],
+                                              "x": [0] * 9})     # fewer than half clamped: not a unit mistake
         out = tmp_path / "o.csv"
         assert main(["apply", str(wide), "--model", str(img), "--temp", "temp", "--columns", "x",
                      "-o", str(out)]) == 0
         o = read_csv(out)
-        assert list(o["tcomp_clamped"]) == [1, 1, 0, 1, 1]
+        assert list(o["tcomp_clamped"]) == [1, 1, 0, 1, 1, 0, 0, 0, 0]
         assert o["x_comp"][0] == o["x_comp"][1] and o["x_comp"][3] == o["x_comp"][4]   # flat beyond the ends
 
 
@@ -229,13 +230,23 @@ def test_unit_and_form_refusals(tmp_path, capsys):
         RangeError.exit_status and "this one is a table" in capsys.readouterr().err and not img.exists()
     assert main(["export", str(mj), "--format", "image", "-o", str(img)]) == 0
     out = tmp_path / "o.csv"
+    # readings with decimals: fit chose a value scale, the image carries it
+    assert tmodel.load(mj).value_scale == 200.0
+    assert main(["apply", str(src), "--model", str(img), "--temp", "temp", "--columns", "x",
+                 "-o", str(out)]) == 0
+    assert main(["apply", str(src), "--model", str(img), "--temp", "temp", "--columns", "x",
+                 "--value-scale", "100", "-o", str(out)]) == InputFileError.exit_status
+    assert "contradicts" in capsys.readouterr().err
+    assert main(["apply", str(src), "--model", str(mj), "--temp-unit", "raw", "-o", str(out)]) == \
+        InputFileError.exit_status and "contradicts" in capsys.readouterr().err
+    # an image of an older pysig (no units section) at scale 1: decimals are a unit mistake
+    from pysig.store import SECTION_UNITS, build_image
+    from pysig.store._image import read_image
+    seq, sections = read_image(img.read_bytes())
+    img.write_bytes(build_image([x for x in sections if x[0] != SECTION_UNITS], seq))
     assert main(["apply", str(src), "--model", str(img), "--temp", "temp", "--columns", "x",
                  "-o", str(out)]) == RangeError.exit_status
-    assert "give --value-scale" in capsys.readouterr().err and not out.exists()
-    assert main(["apply", str(src), "--model", str(img), "--temp", "temp", "--columns", "x",
-                 "--value-scale", "100", "-o", str(out)]) == RangeError.exit_status    # 0.37 t x 100: not integers
-    assert main(["apply", str(src), "--model", str(mj), "--temp-unit", "raw", "-o", str(out)]) == \
-        InputFileError.exit_status and "for images" in capsys.readouterr().err
+    assert "give --value-scale" in capsys.readouterr().err
 
 
 def test_exported_table_header_compiles_and_equals_the_image(tmp_path):

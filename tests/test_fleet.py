@@ -91,9 +91,9 @@ def test_cli_writes_models_images_summary_and_plots(tmp_path, capsys):
     serial, temp, y = fleet_rows(n_dev=30, seed=1, few_temp_devices=(4,))
     y[serial == "SN-0007"] += np.outer(temp[serial == "SN-0007"], [4.0, 0, 0])   # a unit drifting far more
     log = write_fleet_log(tmp_path / "fleet.csv", serial, temp, y)
-    assert _run(tmp_path, [log], "--k", "6") == 0
+    assert _run(tmp_path, [log], "--false-flag-rate", "0.001") == 0
     printed = capsys.readouterr().out
-    assert "k = 6" in printed
+    assert "built to flag 0.10% of good units" in printed
     out = tmp_path / "out"
     rows = {r["device"]: r for r in _summary(out / "fleet_summary.csv")}
     assert len(rows) == 30

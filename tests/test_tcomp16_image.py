@@ -183,7 +183,9 @@ def test_cli_export_compact_then_apply_runs_the_c_loader(tmp_path, fitted, capsy
     assert main(["export", str(mj), "--format", "image", "--compact", "--sequence", "4", "-o", str(img)]) == 0
     from pysig.tcomp import _poly_model as tmodel
     cm = quant.quantize_compact(tmodel.load(mj))
-    assert img.read_bytes() == image.compact_image(cm, sequence=4)
+    seq, sections = image.read_image(img.read_bytes())     # the compact section, then the units section
+    assert (seq, sections[:1]) == image.read_image(image.compact_image(cm, sequence=4))
+    assert [t for t, _ in sections[1:]] == [image.SECTION_UNITS]
     assert main(["apply", str(src), "--model", str(img), "--temp", "temp", "--columns", "x,y,z",
                  "-o", str(out)]) == 0
     d, o = read_csv(src), read_csv(out)

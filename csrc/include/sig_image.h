@@ -58,6 +58,7 @@
 #define SIG_SECTION_COMPACT_POLY  8u  /* compact offset polynomial: sig_tcomp16.h / sig_tcomp16_load_image */
 #define SIG_SECTION_DEVICE_ID     9u  /* the serial of the device the image was made for: sig_device_id.h */
 #define SIG_SECTION_TEMP_CODE    10u  /* how to read the temperature code: sig_tmodel.h */
+#define SIG_SECTION_UNITS        11u  /* the units a model was fitted in (value scale, temperature source): sig_tmodel.h */
 #define SIG_SECTION_EXPERIMENTAL  0x8000u /* 0x8000..0xFFFF: experimental, never assigned */
 
 /* Payload of SIG_SECTION_OFFSET_POLY (written by pysig/store/_image.py):

@@ -24,7 +24,20 @@
  *
  * Payload of SIG_SECTION_TEMP_CODE (sig_image.h):
  *   0  u8 code kind (SIG_TCODE_INT16 or SIG_TCODE_UINT16)   1  u8 reserved (0)
- *   length 2. */
+ *   length 2.
+ *
+ * Payload of SIG_SECTION_UNITS (sig_image.h): the units the model was fitted
+ * in, so a tool applies the image to a log without being told them again and
+ * firmware can report physical values; the evaluator needs none of it.
+ * Numbers are decimals m x 10^e (i32 mantissa, i8 exponent -38..38):
+ *   0  i32 value scale mantissa (> 0)   4  i8 exponent: the int16 reading is
+ *          round(value x scale), value in the log's unit (tesla, g, ...)
+ *   5  u8  flags: bit 0 SIG_UNITS_RAW_CODES the temperature is the sensor's
+ *          raw code (else 0.01 °C); bit 1 SIG_UNITS_CELSIUS a conversion
+ *          °C = code x temp_scale + temp_offset follows; other bits 0
+ *   6  i32 temp_scale mantissa   10 i8 exponent   (°C per code)
+ *   11 i32 temp_offset mantissa  15 i8 exponent   (°C at code 0; both 0 without bit 1)
+ *   length 16.  No section: the units are not recorded (an older image). */
 #ifndef SIG_TMODEL_H
 #define SIG_TMODEL_H
 
@@ -40,6 +53,23 @@
 #define SIG_TCODE_INT16  0u
 #define SIG_TCODE_UINT16 1u
 #define SIG_TEMP_CODE_LEN 2u
+#define SIG_UNITS_LEN     16u
+#define SIG_UNITS_RAW_CODES ((uint8_t)1u)
+#define SIG_UNITS_CELSIUS   ((uint8_t)2u)
+
+/* A decimal number mantissa x 10^exp10. */
+typedef struct {
+    int32_t mantissa;
+    int8_t exp10;
+} sig_decimal;
+
+/* SIG_SECTION_UNITS, decoded (see above). */
+typedef struct {
+    sig_decimal value_scale;
+    sig_decimal temp_scale;
+    sig_decimal temp_offset;
+    uint8_t flags;      /* SIG_UNITS_* */
+} sig_tmodel_units;
 
 typedef struct {
     union {
@@ -66,6 +96,13 @@ int16_t sig_tmodel_code_to_t(uint8_t code_kind, uint16_t code);
  * error (storage may have been written only on SIG_OK). */
 sig_status sig_tmodel_load_image(sig_tmodel *m, int16_t *storage, uint16_t storage_len,
                                  const uint8_t *image, size_t len);
+
+/* The SIG_SECTION_UNITS section of a coefficient image into *u.  SIG_OK;
+ * SIG_ERR_EMPTY when the image has none; the image's validation status;
+ * SIG_ERR_FORMAT for a wrong length, unknown flag bits, a value scale <= 0,
+ * an exponent outside -38..38 or a conversion without SIG_UNITS_RAW_CODES;
+ * SIG_ERR_ARG for NULL pointers.  *u untouched on any error. */
+sig_status sig_tmodel_load_units(sig_tmodel_units *u, const uint8_t *image, size_t len);
 
 /* A table model from const arrays (what `pysig export --format c` writes for
  * a table): n_axes tables of n_knots entries back to back in `table`, one

@@ -51,3 +51,36 @@ sig_status sig_tmodel_load_image(sig_tmodel *m, int16_t *storage, uint16_t stora
     m->n_axes = n_axes;
     return SIG_OK;
 }
+
+/* A decimal m x 10^e stored as i32 m then i8 e; false for e outside -38..38. */
+static bool read_decimal(const uint8_t *p, sig_decimal *d)
+{
+    int16_t e = p[4] >= 0x80u ? (int16_t)((int16_t)p[4] - 256) : (int16_t)p[4];
+    d->mantissa = sig_image_get_i32(p);
+    d->exp10 = (int8_t)e;
+    return e >= -38 && e <= 38;
+}
+
+sig_status sig_tmodel_load_units(sig_tmodel_units *u, const uint8_t *image, size_t len)
+{
+    const uint8_t *p = NULL;
+    uint16_t plen = 0u;
+    sig_tmodel_units v;
+    uint8_t flags;
+    sig_status st;
+    if (u == NULL || image == NULL) return SIG_ERR_ARG;
+    st = sig_image_find_section(image, len, SIG_SECTION_UNITS, &p, &plen);
+    if (st != SIG_OK) return st;
+    if (plen != SIG_UNITS_LEN) return SIG_ERR_FORMAT;
+    flags = p[5];
+    if ((flags & (uint8_t)~(SIG_UNITS_RAW_CODES | SIG_UNITS_CELSIUS)) != 0u) return SIG_ERR_FORMAT;
+    if ((flags & SIG_UNITS_CELSIUS) != 0u && (flags & SIG_UNITS_RAW_CODES) == 0u) return SIG_ERR_FORMAT;
+    if (!read_decimal(p, &v.value_scale) || !read_decimal(p + 6, &v.temp_scale)
+        || !read_decimal(p + 11, &v.temp_offset)) return SIG_ERR_FORMAT;
+    if (v.value_scale.mantissa <= 0) return SIG_ERR_FORMAT;
+    if ((flags & SIG_UNITS_CELSIUS) == 0u
+        && (v.temp_scale.mantissa != 0 || v.temp_offset.mantissa != 0)) return SIG_ERR_FORMAT;
+    v.flags = flags;
+    *u = v;
+    return SIG_OK;
+}

@@ -12,6 +12,9 @@ import sys
 from . import commands
 from .. import __version__
 from ..errors import PysigError
+from ..io import csv_delimiter
+
+DELIMITER_NAMES = {"tab": "\t", "\\t": "\t"}       # how a tab is typed on a command line
 
 
 def command_names():
@@ -28,6 +31,9 @@ def build_parser(only=None):
     for name in ([only] if only else command_names()):
         module = importlib.import_module(f"{commands.__name__}.{name}")
         module.register(sub)
+    for command in sub.choices.values():        # every command reads CSV through pysig.io
+        command.add_argument("--delimiter", default=None,
+                             help="CSV delimiter: ',', ';' or 'tab' (default: detected from the header row)")
     return parser
 
 
@@ -49,7 +55,8 @@ def main(argv=None):
         parser.print_help()
         return 2
     try:
-        result = args.func(args)
+        with csv_delimiter(DELIMITER_NAMES.get(args.delimiter, args.delimiter)):
+            result = args.func(args)
     except PysigError as exc:
         print(f"pysig {args.command}: error: {exc}", file=sys.stderr)
         return exc.exit_status

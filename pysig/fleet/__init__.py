@@ -1,23 +1,26 @@
 """Fleet calibration: many devices of one log (or many logs) fitted at once,
 screened, and written as one model and one device-bound NVM image each.
 
-===============  ============================================================
-load_fleet       read and check every log (devices sorted by serial)
-fit_fleet        the batched fit of every device (numpy, no per-device loop);
-                 equal to the single-device fit of pysig.tcomp
-fit_fleet_dask   the same fit on a Dask cluster (optional extra ``fleet``)
-connect          a Dask client (local, or a scheduler address)
-write_fleet      per-device models and images, the summary CSV with its
-                 screening, fleet plots; written atomically
-DEFAULT_K        the screening band's width (in robust standard deviations)
-SUMMARY          the summary file's name
-===============  ============================================================
+=======================  ====================================================
+load_fleet               read and check every log (devices sorted by serial)
+fit_fleet                the batched fit of every device (numpy, no
+                         per-device loop); equal to the single-device fit
+fit_fleet_dask           the same fit on a Dask cluster (extra ``fleet``)
+connect                  a Dask client (local, or a scheduler address)
+write_fleet              per-device models and images, the summary CSV with
+                         its screening, fleet plots; written atomically
+screen                   the screening: tests whose good-unit distribution
+                         is known, built for a stated false-flag rate
+DEFAULT_FALSE_FLAG_RATE  the share of good units it is built to flag (0.5 %)
+SUMMARY                  the summary file's name
+=======================  ====================================================
 """
 from ._data import load_fleet
 from ._fit import fit_fleet
-from ._report import DEFAULT_K, SUMMARY, write_fleet
+from ._report import DEFAULT_FALSE_FLAG_RATE, SUMMARY, screen, write_fleet
 
-__all__ = ["load_fleet", "fit_fleet", "fit_fleet_dask", "connect", "write_fleet", "DEFAULT_K", "SUMMARY"]
+__all__ = ["load_fleet", "fit_fleet", "fit_fleet_dask", "connect", "write_fleet", "screen",
+           "DEFAULT_FALSE_FLAG_RATE", "SUMMARY"]
 
 
 def __getattr__(name):

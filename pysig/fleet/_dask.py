@@ -14,11 +14,12 @@ Needs the optional extra: ``pip install 'pysig[fleet]'``."""
 import numpy as np
 
 from ..errors import PysigError
-from ._fit import FleetFit, fit_fleet
+from ._fit import LOF_ORDERS, FleetFit, fit_fleet
 from ._data import check_conflicts, expand_logs, read_log
 
-FIELDS_1 = ["ok", "order", "n_temps", "samples", "t_lo", "t_hi", "t_center", "u_mul", "u_shift"]
-FIELDS_A = ["f_t0", "q", "bound", "rms", "cv_rms", "drift"]
+FIELDS_1 = ["ok", "order", "n_temps", "samples", "t_lo", "t_hi", "t_center", "u_mul", "u_shift", "noise_dof"]
+FIELDS_A = ["f_t0", "q", "bound", "rms", "cv_rms", "drift", "curvature"]
+FIELDS_AN = ["noise_var", "lof_var"]        # per axis and per order (LOF_ORDERS)
 
 
 def _read(item, index, device, temp, readings):
@@ -57,6 +58,9 @@ def _fit_partition(pdf, axes, model, t0, files, max_coef):
         for k in range(max_coef):
             out[f"coef_{i}_{k}"] = f.coef[:, i, k] if k < f.coef.shape[2] else 0.0
             out[f"coef_q_{i}_{k}"] = f.coef_q[:, i, k] if k < f.coef_q.shape[2] else 0
+        for name in FIELDS_AN:
+            for n in range(LOF_ORDERS):
+                out[f"{name}_{i}_{n}"] = getattr(f, name)[:, i, n]
     return pd.DataFrame(out)
 
 
@@ -72,6 +76,9 @@ def _empty(axes, max_coef):
         for k in range(max_coef):
             cols[f"coef_{i}_{k}"] = pd.Series([], dtype=float)
             cols[f"coef_q_{i}_{k}"] = pd.Series([], dtype=np.int64)
+        for name in FIELDS_AN:
+            for n in range(LOF_ORDERS):
+                cols[f"{name}_{i}_{n}"] = pd.Series([], dtype=float)
     return pd.DataFrame(cols)
 
 
@@ -120,6 +127,8 @@ def _as_fleet_fit(df, axes, t0, max_coef):
                      for i in range(A)], 1)
     coef_q = np.stack([np.stack([df[f"coef_q_{i}_{k}"].to_numpy(np.int64) for k in range(max_coef)], 1)
                        for i in range(A)], 1)
+    by_order = {name: np.stack([np.stack([df[f"{name}_{i}_{n}"].to_numpy(float) for n in range(LOF_ORDERS)], 1)
+                                for i in range(A)], 1) for name in FIELDS_AN}
     top = int(arr["order"].max()) + 1 if len(df) else 1
     return FleetFit(devices=df["device"].to_numpy(dtype=object), axes=axes, t0=float(t0),
                     ok=arr["ok"].astype(bool), reason=df["reason"].to_numpy(dtype=object),
@@ -129,4 +138,6 @@ def _as_fleet_fit(df, axes, t0, max_coef):
                     u_mul=arr["u_mul"].astype(np.int64), u_shift=arr["u_shift"].astype(np.int64),
                     coef=coef[:, :, :top], f_t0=per["f_t0"], q=per["q"].astype(np.int64),
                     coef_q=coef_q[:, :, :top], bound=per["bound"], rms=per["rms"],
-                    cv_rms=per["cv_rms"], drift=per["drift"])
+                    cv_rms=per["cv_rms"], drift=per["drift"], noise_var=by_order["noise_var"],
+                    noise_dof=arr["noise_dof"].astype(np.int64), lof_var=by_order["lof_var"],
+                    curvature=per["curvature"])

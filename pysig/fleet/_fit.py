@@ -27,6 +27,7 @@ from .._rails import INT16_RAILS, at_rail
 from ..tcomp._poly_model import TcompModel
 
 CV_TOLERANCE = 0.05        # as pysig.tcomp._poly_fit.select_order
+LOF_ORDERS = single.MAX_FIT_ORDER   # orders whose pure error and lack of fit are kept
 
 
 @dataclass
@@ -38,6 +39,15 @@ class FleetFit:
     held-out RMS at the chosen order (NaN where cross-validation needs more
     temperatures than the device has), rms the in-sample residual RMS, drift
     the mean slope of delta over the calibrated range (reading units / °C).
+
+    What the screening (pysig.fleet._report) tests, per device and axis:
+    the residual of a polynomial of order n (1 .. groups - 2, index n - 1
+    of the last axis) splits into noise_var, its variance within the
+    temperature groups (pure error, noise_dof = samples in groups - groups
+    degrees of freedom; NaN at 0), and lof_var, the lack of fit: sum over
+    groups of n_g * (mean residual of the group)^2 / (groups - n - 1);
+    curvature, the u^2 coefficient of an order-2
+    fit over the device's range (reading units; NaN below 3 groups).
     """
     devices: np.ndarray
     axes: list
@@ -60,6 +70,25 @@ class FleetFit:
     rms: np.ndarray
     cv_rms: np.ndarray
     drift: np.ndarray
+    noise_var: np.ndarray = None
+    noise_dof: np.ndarray = None
+    lof_var: np.ndarray = None
+    curvature: np.ndarray = None
+
+    def screening_order(self):
+        """Per device the polynomial order the screening judges it at: the
+        order most of the fleet chose, at most groups - 2 (0: untestable)."""
+        fleet = int(np.bincount(self.order[self.ok]).argmax()) if np.any(self.ok) else 1
+        return np.where(self.ok, np.clip(np.minimum(fleet, self.n_temps - 2), 0, LOF_ORDERS), 0)
+
+    def at_screening_order(self):
+        """(noise_var (D, A), noise_dof (D,), lof_var (D, A), lof_dof (D,)) at `screening_order`."""
+        n = self.screening_order()
+        rows, idx = np.arange(n.size), np.maximum(n - 1, 0)
+        testable = (n > 0)[:, None]
+        noise = np.where(testable, self.noise_var[rows, :, idx], np.nan)
+        lof = np.where(testable, self.lof_var[rows, :, idx], np.nan)
+        return noise, np.where(n > 0, self.noise_dof, 0), lof, np.where(n > 0, self.n_temps - n - 1, 0)
 
     def model(self, d, temp_column="temp"):
         """The TcompModel of device d (as pysig.tcomp._poly_fit would build it)."""
@@ -242,6 +271,27 @@ def _poly_sums(index, n_bins, u, r, n):
     return out
 
 
+def _group_split(bins, n_bins, r, D, G_max):
+    """(pure error, lack of fit) sums of squares per device and axis of the
+    residuals r over rows in bins (device * (G_max + 1) + group + 1; bin 0
+    of a device holds rows in no group and counts in neither)."""
+    n = np.bincount(bins, minlength=n_bins).astype(float)
+    pure, lof = np.zeros((D, r.shape[1])), np.zeros((D, r.shape[1]))
+    grouped = (np.arange(n_bins) % (G_max + 1)) != 0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for a in range(r.shape[1]):
+            s1 = np.bincount(bins, r[:, a], minlength=n_bins)
+            s2 = np.bincount(bins, r[:, a] ** 2, minlength=n_bins)
+            between = np.where(grouped & (n > 0), s1 ** 2 / np.maximum(n, 1), 0.0)
+            within = np.where(grouped, s2, 0.0) - between
+            # bincount adds each device's groups in order, whatever G_max (a
+            # partition of the fleet sums the same numbers the same way)
+            owner = np.arange(n_bins) // (G_max + 1)
+            pure[:, a] = np.maximum(np.bincount(owner, within, minlength=D), 0.0)
+            lof[:, a] = np.bincount(owner, between, minlength=D)
+    return pure, lof
+
+
 def fit_fleet(dev, temp, values, devices, axes, model="auto", t0=25.0, max_order=single.MAX_FIT_ORDER):
     """Fit every device of a long-format log at once.
 
@@ -353,7 +403,7 @@ def fit_fleet(dev, temp, values, devices, axes, model="auto", t0=25.0, max_order
     top = int(min(max_order, max(int(n_groups.max()) - 2, 1))) if D else 1
     orders = list(range(1, top + 1)) if model == "auto" else [int(model)]
     kmax = max(orders)
-    S_g, B_g = _power_sums(b_r, n_bins, u, yc, kmax)
+    S_g, B_g = _power_sums(b_r, n_bins, u, yc, max(kmax, 2))      # order 2 at least: the curvature
     S_g = S_g.reshape(D, G_max + 1, -1)
     B_g = B_g.reshape(D, G_max + 1, A, -1)
     S_d, B_d = S_g.sum(1), B_g.sum(1)
@@ -404,6 +454,7 @@ def fit_fleet(dev, temp, values, devices, axes, model="auto", t0=25.0, max_order
         rr = yc[rsel] - _eval(u[rsel], c[d_r[rsel]])
         ss = np.stack([np.bincount(d_r[rsel], rr[:, a] ** 2, minlength=D) for a in range(A)], 1)
         rms[sel_d] = np.sqrt(ss / np.maximum(samples, 1)[:, None])[sel_d]
+
         coef[sel_d, :, :n + 1] = np.transpose(c, (0, 2, 1))[sel_d]
     coef[:, :, 0] += ybar
     u0 = (t0 - center_c) / scale_c
@@ -427,6 +478,27 @@ def fit_fleet(dev, temp, values, devices, axes, model="auto", t0=25.0, max_order
     span = np.maximum((t_hi - t_lo) / quant.T_PER_DEGC, 1e-9)
     drift = np.where(ok[:, None], (pv[1] - pv[0]) / span[:, None], np.nan)
     keep_if = ok[:, None]
+    # the screening's pure error and lack of fit at every order the groups
+    # leave a degree of freedom for: the screening takes the order most of
+    # the fleet chose (FleetFit.at_screening_order), known only fleet-wide
+    noise_dof = np.where(ok, n_kept - n_groups, 0)
+    noise_var = np.full((D, A, LOF_ORDERS), np.nan)
+    lof_var = np.full((D, A, LOF_ORDERS), np.nan)
+    for n in range(1, min(max(kmax, 2), LOF_ORDERS, G_max - 2) + 1):
+        sel_d = ok & (n_groups - 2 >= n)
+        if not np.any(sel_d):
+            continue
+        c, _ = _solve(S_d, B_d, n, sel_d)
+        rsel = sel_d[d_r]
+        rr = yc[rsel] - _eval(u[rsel], c[d_r[rsel]])
+        pure, lof = _group_split(b_r[rsel], n_bins, rr, D, G_max)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            noise_var[sel_d, :, n - 1] = np.where((noise_dof > 0)[:, None], pure / noise_dof[:, None],
+                                                  np.nan)[sel_d]
+            lof_var[sel_d, :, n - 1] = (lof / (n_groups - n - 1)[:, None])[sel_d]
+    curved = ok & (n_groups >= 3)
+    c2, _ = _solve(S_d, B_d, 2, curved)
+    curvature = np.where(curved[:, None], c2[:, 2, :], np.nan)
     reason = np.full(D, "", dtype=object)
     for d, text in reasons.items():
         reason[d] = text
@@ -436,4 +508,5 @@ def fit_fleet(dev, temp, values, devices, axes, model="auto", t0=25.0, max_order
                     u_mul=u_mul, u_shift=u_shift, coef=np.where(keep_if[..., None], coef, 0.0),
                     f_t0=np.where(keep_if, f_t0, np.nan), q=q, coef_q=coef_q, bound=bound,
                     rms=np.where(keep_if, rms, np.nan), cv_rms=np.where(keep_if, cv_rms, np.nan),
-                    drift=drift)
+                    drift=drift, noise_var=noise_var, noise_dof=noise_dof.astype(np.int64), lof_var=lof_var,
+                    curvature=curvature)

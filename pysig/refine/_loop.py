@@ -67,6 +67,8 @@ class Options:
     material: float = DEFAULT_MATERIAL
     impulse_k: float = robust.HAMPEL_K      # None: no impulse screening
     shape: bool = True                      # try a larger polynomial or a table for the offset
+    base: tuple = None                      # the starting model ("poly", order) or ("table", knots),
+                                            # e.g. the one `pysig fit` chose; None: the order by CV
 
 
 # ---- blocked cross-validation --------------------------------------------------
@@ -197,6 +199,16 @@ def choose_base_order(data, opts, effects=()):
     return min(scores, key=scores.get), scores
 
 
+def base_spec(data, opts):
+    """(ModelSpec, {order: cv_rms}) of the base model: the starting model
+    `opts.base` when given, else the offset order chosen by blocked CV."""
+    if opts.base is not None:
+        family, size = opts.base
+        return fx.ModelSpec(int(size), (), family), {}
+    order, order_cv = choose_base_order(data, opts)
+    return fx.ModelSpec(order), order_cv
+
+
 # ---- residual diagnostics -----------------------------------------------------
 
 def residual_diagnostics(data, resid, blocks=DEFAULT_TEST_BLOCKS):
@@ -287,8 +299,8 @@ def reselect(data, model, opts):
     """After an effect is added: choose the offset order again with the
     effects in place (a lag, for one, changes which order fits), then
     re-polish the nonlinear parameters."""
-    if data.T is None or model.spec.base_family != "poly":
-        return model
+    if data.T is None or model.spec.base_family != "poly" or opts.base is not None:
+        return model            # a starting model given by the user keeps its size
     order, _ = choose_base_order(data, opts, model.spec.effects)
     if order == model.spec.base_order:
         return model
@@ -420,6 +432,7 @@ class Result:
             "before": self.figures(self.base),
             "after": self.figures(self.final),
             "base_model": {"offset_order": self.base.spec.base_order,
+                           "offset_family": self.base.spec.base_family,
                            "offset_order_cv_rms": {str(k): v for k, v in self.base_order_cv.items()},
                            "reference": self.data.labels.get("reference", "given")},
             "final_offset": self.final.spec.describe_base() if self.data.T is not None else None,
@@ -490,8 +503,7 @@ def screen_impulses(data, opts):
     used = data.mask.copy()
     if opts.impulse_k is None:
         return data, used, np.zeros(data.n, dtype=bool)
-    order, _ = choose_base_order(data, opts)
-    resid = fx.fit(data, fx.ModelSpec(order)).residual
+    resid = fx.fit(data, base_spec(data, opts)[0]).residual
     imp = robust.impulse_mask(resid, used, opts.impulse_k)
     if not imp.any():
         return data, used, imp
@@ -574,8 +586,7 @@ def refine(data, opts=None):
 def _loop(data, used, impulses, opts):
     per_report = robust.samples_per_report(data.dt, opts.report_s)
     t_sigma = robust.white_sigma(np.where(data.mask, data.T, np.nan)) if data.T is not None else 0.0
-    order, order_cv = choose_base_order(data, opts)
-    spec = fx.ModelSpec(order)
+    spec, order_cv = base_spec(data, opts)
     model = fx.fit(data, spec)
     base = model
     e_cv = cv_residual(data, spec, opts)

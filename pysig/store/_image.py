@@ -8,6 +8,8 @@ Specific part: the offset-polynomial section of the temperature model
 (`offset_poly_payload`, `parse_offset_poly`, `model_image`) and the compact
 section of pysig.tcomp._quant.CompactModel (`compact_poly_payload`,
 `parse_compact_poly`, `compact_image`; C loader sig_tcomp16_load_image)."""
+import decimal
+import math
 import struct
 
 from . import _image_c
@@ -24,6 +26,7 @@ SECTION_LINEAR_SCALE = 7
 SECTION_COMPACT_POLY = 8
 SECTION_DEVICE_ID = 9       # its payload: pysig.store._device
 SECTION_TEMP_CODE = 10
+SECTION_UNITS = 11          # its payload: units_payload; read by sig_tmodel_load_units (sig_tmodel.h)
 SECTION_EXPERIMENTAL = 0x8000
 OFFSET_POLY_FIXED_LEN = 14
 COMPACT_POLY_FIXED_LEN = 8
@@ -151,6 +154,48 @@ def temp_code_payload(kind):
     if kind not in (TCODE_INT16, TCODE_UINT16):
         raise RangeError(f"temperature-code kind {kind!r} is not {TCODE_INT16} or {TCODE_UINT16}")
     return struct.pack("<BB", kind, 0)
+
+
+UNITS_LEN = 16
+UNITS_RAW_CODES, UNITS_CELSIUS = 1, 2      # flag bits of SECTION_UNITS (sig_tmodel.h)
+DECIMAL_EXP_LIMIT = 38
+
+
+def to_decimal(x):
+    """(mantissa, exponent) with mantissa * 10**exponent == x to 9
+    significant digits, mantissa within int32 (0 -> (0, 0))."""
+    x = float(x)
+    if x == 0.0:
+        return 0, 0
+    if not math.isfinite(x):
+        raise RangeError(f"{x!r} has no decimal form")
+    sign, digits, exp = decimal.Decimal(f"{x:.9g}").normalize().as_tuple()
+    m = int("".join(map(str, digits))) * (-1 if sign else 1)
+    if not -DECIMAL_EXP_LIMIT <= exp <= DECIMAL_EXP_LIMIT:
+        raise RangeError(f"{x!r} is outside the decimal form's 10^-38..10^38")
+    return m, exp
+
+
+def from_decimal(m, e):
+    """The float of mantissa * 10**e (exactly as Python parses the decimal)."""
+    return float(f"{int(m)}e{int(e)}")
+
+
+def units_payload(value_scale, raw_codes, temp_scale=None, temp_offset=None):
+    """Payload of SECTION_UNITS: the reading's value scale (the int16
+    reading = round(value * value_scale)), whether the temperature is the
+    sensor's raw code (else 0.01 °C), and for raw codes the optional °C
+    conversion (°C = code * temp_scale + temp_offset); layout in sig_tmodel.h."""
+    if not (math.isfinite(value_scale) and value_scale > 0):
+        raise RangeError(f"value scale must be a positive number, got {value_scale!r}")
+    celsius = temp_scale is not None
+    if celsius and not raw_codes:
+        raise RangeError("a °C conversion applies to raw temperature codes only")
+    flags = (UNITS_RAW_CODES if raw_codes else 0) | (UNITS_CELSIUS if celsius else 0)
+    fields = [to_decimal(value_scale), to_decimal(temp_scale if celsius else 0.0),
+              to_decimal((temp_offset or 0.0) if celsius else 0.0)]
+    (vm, ve), (sm, se), (om, oe) = fields
+    return struct.pack("<ibBibib", vm, ve, flags, sm, se, om, oe)
 
 
 def find_section(data, typ, where="image"):

@@ -18,7 +18,11 @@ apply                    correct readings with a model (float64 or ``fixed``)
 load_image               an NVM image as the firmware's C loader reads it
 apply_image              correct readings with an NVM image, through the
                          firmware's C loader and evaluator
+image_units              the temperature source and value scale of an image
 image_bytes              the CRC-protected NVM image of a model
+require_float_form       refuse a model whose fixed-point form lost the float
+calibrated_range         a model's calibrated temperature range (its unit)
+require_mostly_in_range  refuse a run mostly outside the calibrated range
 c_header                 the C header of a model (const arrays + init call)
 TempCode, CELSIUS,       the temperature source: °C or int16 / uint16 raw codes
 raw_code
@@ -28,9 +32,12 @@ saturated_reading
 =======================  ======================================================
 """
 from ._c_header import c_header
-from ._calibration import apply, apply_image, fit_model, image_bytes, load, load_image, parse_spec
+from ._calibration import (apply, apply_image, fit_model, image_bytes, image_units, load, load_image, parse_spec,
+                           require_mostly_in_range)
+from ._value_scale import calibrated_range, require_float_form
 from ._poly_fit import MAX_FIT_ORDER, first_saturated, saturated_reading
 from ._tempcode import CELSIUS, TempCode, raw_code
 
-__all__ = ["fit_model", "parse_spec", "load", "apply", "apply_image", "load_image", "image_bytes", "c_header",
+__all__ = ["fit_model", "parse_spec", "load", "apply", "apply_image", "load_image", "image_units", "image_bytes",
+           "c_header", "calibrated_range", "require_float_form", "require_mostly_in_range",
            "TempCode", "CELSIUS", "raw_code", "MAX_FIT_ORDER", "first_saturated", "saturated_reading"]

@@ -15,13 +15,15 @@ import numpy as np
 from . import _choice as auto, _poly_fit as fit, _quant as quant
 from . import _poly_model as poly_model
 from . import _table_model as table_model
-from ._tempcode import CELSIUS, CODE_UINT16, TempCode
+from ._tempcode import CELSIUS, CODE_INT16, CODE_UINT16, TempCode
+from .. import __version__
 from ..io import read_json
 from ..errors import InputFileError, InsufficientDataError, ModelFileError, NonFiniteError, RangeError
 from ..store._image import (SECTION_COMPACT_POLY, SECTION_OFFSET_POLY, SECTION_PWL_TABLE, SECTION_TEMP_CODE,
-                           TCODE_INT16, TCODE_UINT16, build_image, compact_poly_payload,
-                           offset_poly_payload, temp_code_payload)
+                           SECTION_UNITS, TCODE_INT16, TCODE_UINT16, build_image, compact_poly_payload,
+                           find_section, from_decimal, offset_poly_payload, temp_code_payload, units_payload)
 from ._table_fit import pwl_payload, PwlQ16
+from . import _value_scale as vscale
 
 MIN_ERROR_LSB = 0.5          # a fixed-point error below this is always accepted
 CV_ERROR_SHARE = 0.10        # ... and so is one below 10 % of the model's own CV RMS
@@ -117,8 +119,8 @@ def _fold_lines(chosen, prep, temp_code):
     return lines, rows
 
 
-def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scale=1.0, strict=False,
-              temp_column="temp", prefer="cycles", what="fit"):
+def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scale=None, strict=False,
+              temp_column="temp", prefer="cycles", what="fit", source=None):
     """Fit a temperature model, family and size chosen from the data.
 
     Parameters
@@ -133,12 +135,16 @@ def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scal
         Reference temperature in the column's unit (default 25 °C when in
         range, else the middle of the range).
     temp_code : pysig.tcomp._tempcode.TempCode
-    value_scale : float
-        The firmware's int16 reading is ``value * value_scale``.
+    value_scale : float, optional
+        The firmware's int16 reading is ``round(value * value_scale)``;
+        default: chosen (pysig.tcomp._value_scale: 1 for int16 codes, else
+        the 1-2-5 scale keeping the readings within int16 with a 4x margin).
     strict : bool
         Refuse (InsufficientDataError) instead of warning on coverage gaps.
     prefer : {"cycles", "bytes"}
         What "cheapest" means first.
+    source : list of str, optional
+        The logs' names, recorded in the model (and its C header).
 
     Returns
     -------
@@ -159,8 +165,11 @@ def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scal
     """
     family, size = parse_spec(spec)
     temp, columns = fit.check_inputs(temp, columns, what)
-    if not (np.isfinite(value_scale) and value_scale > 0):
-        raise RangeError(f"{what}: value scale must be a positive number, got {value_scale!r}")
+    scale_note = None
+    if value_scale is None:
+        value_scale, scale_note = vscale.choose(columns, what)
+    else:
+        vscale.check_given(columns, value_scale, what)
     columns = {n: y * value_scale for n, y in columns.items()}
     groups = fit.groups_for(temp, temp_code)
     if np.ptp(temp) == 0 or groups.count < 2:
@@ -184,6 +193,8 @@ def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scal
     cv_ok = auto.cv_possible(prep, groups.count)
     lines, warnings = list(prep.notes), []
     lines.insert(0, f"temperatures: {groups.count} groups: {_describe_groups(groups, temp_code)}")
+    if scale_note:
+        lines.insert(1, scale_note)
     if cv_ok:
         auto.score(prep, cands)
     else:
@@ -227,7 +238,7 @@ def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scal
     if model is None:
         raise RangeError(f"{what}: no model fits the fixed point: " +
                          "; ".join(f"{c.label}: {e}" for c, e in skipped))
-    unit = "reading LSB" if value_scale == 1.0 else f"reading x {value_scale:g}"
+    unit = "reading LSB" if value_scale == 1.0 else f"LSB = reading x {value_scale:g}"
     if cv_ok:
         lines += _cv_table(cands, chosen, best, len(columns), unit)
         rule = f"the cheapest ({prefer} first) within {auto.TOLERANCE:.0%} of the best CV RMS"
@@ -252,13 +263,14 @@ def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scal
                                for n, v in hyst["per_axis"].items()) + "; the fit pools both branches")
     if strict and warnings:
         raise InsufficientDataError(f"{what}: coverage check failed (--strict): " + "; ".join(warnings))
-    errs = model.error_bound_lsb if chosen.family == "poly" else model.error_lsb
-    lines.append(f"fixed point: {', '.join(f'{n} error <= {e:.3g} LSB' for n, e in zip(model.axes, errs))} "
-                 f"(allowed: max(0.5 LSB, 10 % of the CV RMS))")
+    model.value_scale = float(value_scale)
+    lost = vscale.lost_axes(model)
+    if lost:
+        raise RangeError(vscale.describe_loss(model, lost, what))
+    lines.append(_fixed_point_line(model))
     lines.append(f"calibrated range {temp_code.label(model.t_lo if chosen.family == 'poly' else model.lo)} .. "
                  f"{temp_code.label(model.t_hi if chosen.family == 'poly' else model.hi)}, "
                  f"T0 {temp_code.label(model.t0)}")
-    model.value_scale = float(value_scale)
     model.temp_column = temp_column
     model.report.update({
         "selection": {"spec": spec, "chosen": chosen.label,
@@ -270,8 +282,18 @@ def fit_model(temp, columns, spec="auto", t0=None, temp_code=CELSIUS, value_scal
                                       "cycles": c.cost(len(columns))[0], "bytes": c.cost(len(columns))[1]}
                                      for c in cands],
                       "blocks": fold_rows, "prefer": prefer},
-        "notes": list(prep.notes), "warnings": warnings, "hysteresis": hyst})
+        "notes": list(prep.notes), "warnings": warnings, "hysteresis": hyst,
+        "source": list(source or []), "pysig_version": __version__})
     return FitResult(model=model, lines=lines, warnings=warnings)
+
+
+def _fixed_point_line(model):
+    """The fixed-point error in the reading's unit, against the correction it carries."""
+    s = model.value_scale
+    per = [f"{n} error <= {e / s:.3g} ({e:.3g} LSB) on a correction spanning {span / s:.3g} ({span:.4g} LSB)"
+           for n, e, span in zip(model.axes, vscale.error_bound_lsb(model), vscale.correction_span_lsb(model))]
+    return (f"fixed point (value scale {s:g}: 1 LSB = {1 / s:.3g} in the column's unit): " + "; ".join(per) +
+            " (allowed: max(0.5 LSB, 10 % of the CV RMS), and below half the span)")
 
 
 def _describe_groups(groups, temp_code):
@@ -355,9 +377,13 @@ def _verify(d, path):
         raise ModelFileError(f"{path}: checksum mismatch: the file is corrupt or was edited")
 
 
-def _code_section(model):
-    kind = TCODE_UINT16 if model.temp_code.code_kind == CODE_UINT16 else TCODE_INT16
-    return [(SECTION_TEMP_CODE, temp_code_payload(kind))] if model.temp_code.unit == "raw" else []
+def _code_sections(model):
+    """The temperature-code section (raw codes) and the units section."""
+    tc = model.temp_code
+    kind = TCODE_UINT16 if tc.code_kind == CODE_UINT16 else TCODE_INT16
+    units = (SECTION_UNITS, units_payload(model.value_scale, tc.unit == "raw",
+                                          tc.scale if tc.unit == "raw" else None, tc.offset))
+    return ([(SECTION_TEMP_CODE, temp_code_payload(kind))] if tc.unit == "raw" else []) + [units]
 
 
 def image_bytes(model, sequence=1, compact=False, what="export"):
@@ -377,14 +403,16 @@ def image_bytes(model, sequence=1, compact=False, what="export"):
     Returns
     -------
     bytes
-        Header, the family's section, and for raw temperature codes the
-        temperature-code section; CRC-protected (``sig_image.h``).
+        Header, the family's section, for raw temperature codes the
+        temperature-code section, and the units section (value scale,
+        temperature source, °C conversion); CRC-protected (``sig_image.h``).
 
     Raises
     ------
     RangeError
         `compact` asked of a table, or of a polynomial that does not fit the
-        compact form within its error bound.
+        compact form within its error bound; a model whose fixed-point form
+        has lost its float form (pysig.tcomp._value_scale).
 
     Examples
     --------
@@ -394,6 +422,7 @@ def image_bytes(model, sequence=1, compact=False, what="export"):
     >>> image_bytes(m)[:4]
     b'psig'
     """
+    vscale.require_float_form(model, what)
     if model.family == "table":
         if compact:
             raise RangeError(f"{what}: --compact applies to polynomial models, this one is a table")
@@ -405,18 +434,22 @@ def image_bytes(model, sequence=1, compact=False, what="export"):
         section = (SECTION_COMPACT_POLY, compact_poly_payload(quant.quantize_compact(model, what=what)))
     else:
         section = (SECTION_OFFSET_POLY, offset_poly_payload(model))
-    return build_image([section, *_code_section(model)], sequence)
+    return build_image([section, *_code_sections(model)], sequence)
 
 
 def readings_code(readings, value_scale, what="apply"):
-    """(n, axes) int16 readings the firmware sees: value * value_scale,
-    which must be integers within int16."""
+    """(n, axes) int16 readings the firmware sees: round(value * value_scale),
+    which must lie within int16.  A scale of 1 says the column holds the
+    firmware's integer codes (fit chooses another scale for any other
+    column), so there a value with decimals is refused as a unit mistake."""
     x = np.column_stack([np.asarray(r, dtype=float) for r in readings]) * float(value_scale)
     r = np.rint(x)
-    if np.any(np.abs(x - r) > 1e-6 * np.maximum(1.0, np.abs(x))) or r.min() < -32768 or r.max() > 32767:
+    fractional = value_scale == 1.0 and np.any(np.abs(x - r) > 1e-6 * np.maximum(1.0, np.abs(x)))
+    if fractional or r.min() < -32768 or r.max() > 32767:
         hint = "" if value_scale != 1.0 else " (give --value-scale when the column is in a physical unit)"
-        raise RangeError(f"{what}: the fixed-point path needs integer int16 readings (value x "
-                         f"{value_scale:g}){hint}")
+        raise RangeError(f"{what}: the fixed-point path needs int16 readings: value x {value_scale:g} "
+                         f"{'has decimals' if fractional else f'reaches {float(np.max(np.abs(x))):.4g}'}"
+                         f"{hint}")
     return r.astype(np.int16)
 
 
@@ -429,6 +462,58 @@ def load_image(data, where="image"):
     """
     from ._tmodel import TModel
     return TModel.from_image(data, where=where)
+
+
+@dataclass
+class ImageUnits:
+    """The units an image records: its temperature source and, when the
+    image has a units section, the value scale (None for an older image)."""
+    temp_code: TempCode
+    value_scale: float = None
+
+
+def image_units(data, where="image"):
+    """The units of an image, as the C loader reads them
+    (sig_tmodel_load_image for the code kind, sig_tmodel_load_units for the
+    units section).  Without a units section (an image of an older pysig) a
+    temperature-code section still says raw codes, else 0.01 °C, and the
+    value scale is None (unknown).  ModelFileError for an image or units
+    section the loader refuses."""
+    from ._tmodel import TModel, load_units
+    c = TModel.from_image(data, where=where)
+    kind = CODE_UINT16 if c.code_kind == "uint16" else CODE_INT16
+    st, u = load_units(data)
+    if u is None:
+        if st != -5:                # SIG_ERR_EMPTY: no units section
+            raise ModelFileError(f"{where}: the C loader rejected the image's units section")
+        try:
+            find_section(data, SECTION_TEMP_CODE, where)
+            return ImageUnits(TempCode(unit="raw", code_kind=kind))
+        except ModelFileError:
+            return ImageUnits(CELSIUS)
+    raw = bool(u["flags"] & 1)
+    conv = bool(u["flags"] & 2)
+    tc = TempCode(unit="raw", code_kind=kind, scale=from_decimal(*u["temp_scale"]) if conv else None,
+                  offset=from_decimal(*u["temp_offset"]) if conv else None) if raw else CELSIUS
+    return ImageUnits(tc, from_decimal(*u["value_scale"]))
+
+
+#: a run where more than this share of rows is clamped is refused (the likely cause is a unit or column)
+MAX_CLAMPED_SHARE = 0.5
+
+
+def require_mostly_in_range(clamped, temp, temp_code, column, expected, where="apply"):
+    """RangeError when more than MAX_CLAMPED_SHARE of the rows had their
+    temperature clamped: the column is almost surely not what the model
+    expects (another column, °C read as codes or codes as °C).  `expected`
+    describes the calibrated range or the model's unit."""
+    n, k = len(clamped), int(np.count_nonzero(clamped))
+    if n and k > MAX_CLAMPED_SHARE * n:
+        t = np.asarray(temp, dtype=float)
+        raise RangeError(f"{where}: {k} of {n} rows ({k / n:.0%}) have a temperature outside the calibrated "
+                         f"range and would be clamped: column '{column}' holds {t.min():.6g} .. {t.max():.6g}, "
+                         f"read as {'raw sensor codes' if temp_code.unit == 'raw' else '°C'}; {expected}. "
+                         f"Likely cause: the wrong temperature column or unit")
 
 
 def apply_image(data, temp, readings, temp_code, value_scale=1.0, where="image"):
@@ -486,7 +571,10 @@ def apply_image(data, temp, readings, temp_code, value_scale=1.0, where="image")
     if temp_code.unit == "raw":
         v = np.asarray(temp, dtype=float)
         if np.any(v != np.round(v)) or v.min() < -32768 or v.max() > 65535:
-            raise RangeError(f"{where}: raw temperature codes must be integers in -32768..65535")
+            raise RangeError(f"{where}: expects the sensor's raw temperature codes, integers in -32768..65535; "
+                             f"the temperature column holds {v.min():.6g} .. {v.max():.6g}"
+                             f"{' with decimals (°C?)' if np.any(v != np.round(v)) else ''}: "
+                             f"give the column of codes the model was fitted on")
         codes = v.astype(np.int64) & 0xFFFF
     else:
         codes = CELSIUS.codes(CELSIUS.to_t(temp, "saturate"))

@@ -4,7 +4,7 @@ evaluates whatever temperature model a coefficient image holds (int32
 polynomial, compact polynomial or table), loaded by sig_tmodel_load_image."""
 import numpy as np
 cimport numpy as cnp
-from libc.stdint cimport int16_t, uint8_t, uint16_t
+from libc.stdint cimport int8_t, int16_t, int32_t, uint8_t, uint16_t
 
 from ._tcomp import _int16_readings
 from ..errors import ModelFileError, RangeError
@@ -21,6 +21,15 @@ cdef extern from "sig_tmodel.h":
     int16_t sig_tmodel_code_to_t(uint8_t code_kind, uint16_t code) nogil
     sig_status sig_tmodel_load_image(sig_tmodel *m, int16_t *storage, uint16_t storage_len,
                                      const uint8_t *image, size_t len)
+    ctypedef struct sig_decimal:
+        int32_t mantissa
+        int8_t exp10
+    ctypedef struct sig_tmodel_units:
+        sig_decimal value_scale
+        sig_decimal temp_scale
+        sig_decimal temp_offset
+        uint8_t flags
+    sig_status sig_tmodel_load_units(sig_tmodel_units *u, const uint8_t *image, size_t len)
 
 FAMILY_NAMES = {SIG_TMODEL_POLY: "poly", SIG_TMODEL_COMPACT: "compact", SIG_TMODEL_TABLE: "table"}
 CODE_KINDS = {0: "int16", 1: "uint16"}
@@ -45,6 +54,21 @@ def code_to_t(code_kind, codes):
         for i in range(c.shape[0]):
             out[i] = sig_tmodel_code_to_t(kind, c[i])
     return out
+
+
+def load_units(data):
+    """sig_tmodel_load_units on image bytes: (status, fields), fields a dict
+    of the decoded section (mantissa, exponent pairs and flags) on SIG_OK,
+    else None."""
+    data = bytes(data)
+    cdef const uint8_t[::1] b = data + b"\0"
+    cdef sig_tmodel_units u
+    st = sig_tmodel_load_units(&u, &b[0], len(data))
+    if st != 0:
+        return st, None
+    return st, {"value_scale": (u.value_scale.mantissa, u.value_scale.exp10),
+                "temp_scale": (u.temp_scale.mantissa, u.temp_scale.exp10),
+                "temp_offset": (u.temp_offset.mantissa, u.temp_offset.exp10), "flags": u.flags}
 
 
 cdef class TModel:

@@ -146,3 +146,29 @@ def load_compact(buf):
         pos += 2 + 4 * order
     fields = {"top": top, "add": add, "t_lo": t_lo, "t_hi": t_hi, "w_shift": w_shift}
     return (SIG_OK, fields) if tcomp16.valid(fields) else (SIG_ERR_FORMAT, None)
+
+
+# ---- SIG_SECTION_UNITS: the spec of sig_tmodel_load_units -------------------
+SECTION_UNITS = 11
+UNITS_LEN = 16
+UNITS_RAW_CODES, UNITS_CELSIUS = 1, 2
+
+
+def load_units(buf):
+    """(status, fields or None) of sig_tmodel_load_units: fields as the C
+    struct holds them ((mantissa, exponent) pairs and the flags)."""
+    st, p = find_section(buf, SECTION_UNITS)
+    if st != SIG_OK:
+        return st, None
+    if len(p) != UNITS_LEN:
+        return SIG_ERR_FORMAT, None
+    vm, ve, flags, sm, se, om, oe = struct.unpack("<ibBibib", p)
+    if flags & ~(UNITS_RAW_CODES | UNITS_CELSIUS):
+        return SIG_ERR_FORMAT, None
+    if flags & UNITS_CELSIUS and not flags & UNITS_RAW_CODES:
+        return SIG_ERR_FORMAT, None
+    if any(not -38 <= e <= 38 for e in (ve, se, oe)) or vm <= 0:
+        return SIG_ERR_FORMAT, None
+    if not flags & UNITS_CELSIUS and (sm or om):
+        return SIG_ERR_FORMAT, None
+    return SIG_OK, {"value_scale": (vm, ve), "temp_scale": (sm, se), "temp_offset": (om, oe), "flags": flags}

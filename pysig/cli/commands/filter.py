@@ -24,13 +24,15 @@ converted to signal units with --units-per-kg.  The presets `recommended`
 and `adaptive` derive their thresholds from --R, the variance of one reading
 of your sensor (--A0 auto = A0-sigmas * sqrt(R); --motion-band auto =
 motion-sigmas * sqrt(R / (window - 2))): give your sensor's R and they follow.  --fixed runs the firmware's
-fixed-point C code (samples rounded to integer codes)."""
+fixed-point C code (samples rounded to integer codes).  A missing sample
+(an empty or nan cell, pysig.io) is replaced as an impulse and counted; the
+fixed form refuses it."""
 import numpy as np
 import pyarrow as pa
 
 from ...weigh import CODE_MAX, PRESETS, Chain, EventCounter
 from ...errors import InputFileError, NonFiniteError, SaturationError
-from ...io import from_numpy, numeric_column, read_header, read_table, row_label
+from ...io import MISSING_TEXT, from_numpy, numeric_column, read_header, read_table, row_label
 from ...io_stream import iter_batches, progress, table_sink
 
 
@@ -93,8 +95,10 @@ def _check_fixed_codes(path, column, x, offset):
     """The fixed form takes finite ADC codes within its 25-bit range."""
     bad = np.flatnonzero(~np.isfinite(x))
     if bad.size:
+        v = float(x[bad[0]])
+        what = MISSING_TEXT if np.isnan(v) else f"non-finite value {v!r}"
         raise NonFiniteError(f"{path}: row {row_label(path, offset + int(bad[0]))}, column '{column}': "
-                             f"non-finite value {float(x[bad[0]])!r} (the fixed form takes ADC codes)")
+                             f"{what} (the fixed form takes ADC codes)")
     beyond = np.flatnonzero(np.abs(x) > CODE_MAX)
     if beyond.size:
         i = int(beyond[0])
@@ -122,7 +126,7 @@ def run(args):
     chain = Chain(preset=args.preset, fixed=args.fixed, units_per_kg=args.units_per_kg, **overrides)
     if args.tare:
         chain.tare()
-    rows = stable_rows = 0
+    rows = stable_rows = missing = 0
     events = EventCounter()
     with table_sink(args.output) as sink, progress(args.input) as advance:
         for offset, batch in _batches(args):
@@ -139,11 +143,13 @@ def run(args):
             make = pa.Table.from_arrays if isinstance(batch, pa.Table) else pa.RecordBatch.from_arrays
             sink.write(make(list(cols.values()), names=list(cols)))
             rows += x.size
+            missing += int(np.count_nonzero(np.isnan(x)))
             events.update(status)
             stable_rows += int(np.count_nonzero(stable))
             advance(x.size)
     counts = events.finish()
     print(f"wrote {args.output}: {rows} rows, preset {args.preset}"
-          f"{' (fixed point)' if args.fixed else ''}, {counts['impulses']} samples replaced as impulses, "
+          f"{' (fixed point)' if args.fixed else ''}, {counts['impulses']} samples replaced as impulses"
+          f"{f' ({missing} missing: empty or nan)' if missing else ''}, "
           f"{counts['motion_samples']} samples of load motion (steps, pours, swings), "
           f"stable on {stable_rows / max(rows, 1) * 100:.1f} % of rows")

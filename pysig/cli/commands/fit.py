@@ -8,9 +8,16 @@ temperature: the cheapest on the MCU (measured cycles, then bytes) within
 with the CV error per held-out block.  `--order N` is `--model poly:N`
 (`--order auto`: `--model poly:auto`).  `--temp-unit raw`: the temperature
 column holds the sensor's integer codes (int16 or uint16), which the model
-and the firmware use directly; `--temp-scale/--temp-offset` only print °C.
+and the firmware use directly; `--temp-scale/--temp-offset` give °C (printed,
+and carried to the image and the C header).  The reading's value scale is
+part of the model: the firmware's int16 reading is round(value x scale);
+without `--value-scale` it is 1 for int16 codes and otherwise chosen (and
+printed) to keep the log within int16 with a 4x margin; a model whose
+fixed-point form would lose the drift (a correction below one LSB) is
+refused with the remedy.
 Warns about calibration gaps wider than a CV block and thin blocks
 (`--strict` refuses them)."""
+import os
 import sys
 
 import numpy as np
@@ -34,8 +41,9 @@ def register(sub):
                    help="c: °C (default); raw: the sensor's integer temperature codes")
     p.add_argument("--temp-scale", type=float, default=None, help="raw codes: °C per code (printing only)")
     p.add_argument("--temp-offset", type=float, default=None, help="raw codes: °C at code 0 (printing only)")
-    p.add_argument("--value-scale", type=float, default=1.0,
-                   help="the firmware's int16 reading = column value x this (default 1)")
+    p.add_argument("--value-scale", type=float, default=None,
+                   help="the firmware's int16 reading = round(column value x this); default: 1 for "
+                        "int16 codes, else chosen to keep the readings within int16 with a 4x margin")
     p.add_argument("--prefer", choices=("cycles", "bytes"), default="cycles",
                    help="what 'cheapest' ranks first (default cycles)")
     p.add_argument("--strict", action="store_true", help="refuse coverage gaps instead of warning")
@@ -83,7 +91,8 @@ def run(args):
         temp_code = CELSIUS
     result = fit_model(temp, {c: data[c] for c in columns}, spec=spec, t0=args.t0,
                               temp_code=temp_code, value_scale=args.value_scale, strict=args.strict,
-                              temp_column=args.temp, prefer=args.prefer, what=where)
+                              temp_column=args.temp, prefer=args.prefer, what=where,
+                              source=[os.path.basename(p) for p in args.inputs])
     for line in result.lines:
         print(line)
     for w in result.warnings:

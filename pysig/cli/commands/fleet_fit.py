@@ -7,9 +7,12 @@ compensation fit of `pysig fit` (batched: all devices at once), written as
 DIR/<device>.json and the NVM image DIR/<device>.bin, which carries the
 device's serial: the firmware's loader, given its own serial, refuses
 another unit's image (SIG_ERR_DEVICE).  DIR/fleet_summary.csv has one row
-per device; a device is flagged when its fit error or drift lies outside
-the fleet's median +- k*MAD or it could not be fitted (too few
-temperatures, ...): the fleet goes on without it.  Fleet plots go to DIR.
+per device; a device is flagged when one of the screening tests
+(pysig.fleet._report: its within-plateau noise against the fleet's, the
+lack of fit of its model against that noise, its drift and curvature
+against the fleet's) rejects it at --false-flag-rate (the share of good
+units flagged the screening is built for, default 0.5 %), or when it
+could not be fitted (too few temperatures, ...): the fleet goes on without it.  Fleet plots go to DIR.
 DIR appears whole or not at all.
 
 --engine dask runs the fit on Dask (a local cluster by default,
@@ -20,7 +23,7 @@ import numpy as np
 
 from ...errors import InputFileError, RangeError
 from ...tcomp import MAX_FIT_ORDER
-from ...fleet import DEFAULT_K, SUMMARY, write_fleet
+from ...fleet import DEFAULT_FALSE_FLAG_RATE, SUMMARY, write_fleet
 
 
 def register(sub):
@@ -32,8 +35,8 @@ def register(sub):
     p.add_argument("--columns", required=True, help="1 to 3 reading columns, comma separated")
     p.add_argument("--model", default="auto", help="auto (order by cross-validation) or poly:N (N = 1..8)")
     p.add_argument("--t0", type=float, default=25.0, help="reference temperature T0, °C (default 25)")
-    p.add_argument("--k", type=float, default=DEFAULT_K,
-                   help=f"flag outside median +- k*MAD (default {DEFAULT_K:g})")
+    p.add_argument("--false-flag-rate", type=float, default=DEFAULT_FALSE_FLAG_RATE,
+                   help=f"share of good units the screening may flag (default {DEFAULT_FALSE_FLAG_RATE:g})")
     p.add_argument("--engine", choices=["local", "dask"], default="local")
     p.add_argument("--scheduler", default=None, help="Dask scheduler address (default: a local cluster)")
     p.add_argument("--workers", type=int, default=2, help="local Dask cluster: workers (default 2)")
@@ -61,8 +64,8 @@ def run(args):
     if not 1 <= len(columns) <= 3:
         raise InputFileError(f"fleet-fit: --columns needs 1 to 3 column names, got {args.columns!r}")
     model = parse_model(args.model)
-    if not args.k > 0:
-        raise RangeError(f"fleet-fit: --k must be > 0, got {args.k}")
+    if not 0 < args.false_flag_rate < 1:        # also refuses NaN
+        raise RangeError(f"fleet-fit: --false-flag-rate must be in (0, 1), got {args.false_flag_rate}")
     t_start = time.perf_counter()
     if args.engine == "dask":
         from ...fleet import connect, fit_fleet_dask
@@ -73,15 +76,16 @@ def run(args):
         log = load_fleet(args.logs, args.device, args.temp, columns)
         fit = fit_fleet(log.dev, log.temp, log.values, log.devices, columns, model=model, t0=args.t0)
     t_fit = time.perf_counter()
-    flagged, _, spread = write_fleet(fit, args.output, k=args.k, temp_column=args.temp,
-                                     plots=not args.no_plots)
+    flagged, _, spread = write_fleet(fit, args.output, false_flag_rate=args.false_flag_rate,
+                                     temp_column=args.temp, plots=not args.no_plots)
     t_end = time.perf_counter()
     orders = np.bincount(fit.order[fit.ok], minlength=2)
     print(f"fleet-fit: {len(fit.devices)} devices, {int(fit.ok.sum())} fitted "
           f"({', '.join(f'poly:{n} {c}' for n, c in enumerate(orders) if c)}), {int(flagged.sum())} flagged "
-          f"(outside median +- k*MAD, k = {args.k:g}; or not fitted: {int((~fit.ok).sum())})")
-    for name, (med, mad, _) in spread.items():
-        print(f"  {name:>16}: median {med:.4g}, MAD {mad:.3g}")
+          f"(screening built to flag {args.false_flag_rate:.2%} of good units; not fitted: "
+          f"{int((~fit.ok).sum())})")
+    for name, (p, _, out) in spread.items():
+        print(f"  {name:>18}: {int(np.isfinite(p).sum())} devices tested, {int(out.sum())} flagged")
     print(f"wrote {args.output}/ ({SUMMARY}, <device>.json/.bin per fitted device"
           f"{', plots' if not args.no_plots else ''}); read+fit {t_fit - t_start:.2f} s "
           f"({args.engine}), write {t_end - t_fit:.2f} s")

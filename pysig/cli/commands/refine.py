@@ -1,10 +1,17 @@
-"""`pysig refine IN.csv --time t --temp temp --columns x --ref ref --json R.json --plot DIR`
+"""`pysig refine IN.csv --time t [--time-unit s|ms|us] --temp temp --columns x --ref ref [--model model.json] --json R.json --plot DIR`
 
 Close the loop on measured data: fit the base model, find the effect the
 residual points at, add it while it significantly lowers the out-of-sample
-(time-blocked CV) error, and say what structure is left unexplained."""
+(time-blocked CV) error, and say what structure is left unexplained.
+`--model model.json` starts from the model `pysig fit` chose (its family
+and size, its temperature and reading columns unless --temp/--columns say
+otherwise) instead of an offset order chosen here.  Times are in seconds
+unless --time-unit says ms or us; without it, a sample interval or a column
+name that suggests milliseconds or microseconds gives a warning."""
 import json
 import os
+import re
+import sys
 
 import numpy as np
 
@@ -26,10 +33,14 @@ def register(sub):
                        description=__doc__)
     p.add_argument("inputs", nargs="+", metavar="IN.csv",
                    help="CSV file(s); several files are joined end to end in time")
-    p.add_argument("--time", help="time column (s); default: the sample index")
+    p.add_argument("--time", help="time column; default: the sample index")
+    p.add_argument("--time-unit", choices=sorted(TIME_UNITS), default=None,
+                   help="the time column's unit (default s; a warning when it looks like ms or us)")
+    p.add_argument("--model", metavar="model.json",
+                   help="start from this fitted model (pysig fit): its family and size, its columns")
     p.add_argument("--temp", help="temperature column (omit for weighing)")
-    p.add_argument("--columns", nargs="+", required=True,
-                   help="measured column(s), e.g. x or x,y,z")
+    p.add_argument("--columns", nargs="+",
+                   help="measured column(s), e.g. x or x,y,z (default: the --model's axes)")
     p.add_argument("--ref", nargs="+",
                    help="true value column(s), one per measured column (or one for all); "
                         "without it: the reading at T0 (constant field), or for weighing "
@@ -47,6 +58,40 @@ def register(sub):
     p.set_defaults(func=run)
 
 
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6}
+SLOW_INTERVAL_S = 10.0          # a median interval this long in a log spanning ...
+LONG_LOG_S = 86400.0            # ... more than a day is more likely ms (or us) than s
+
+
+def time_unit_warning(name, t):
+    """A warning when seconds are unlikely: a name ending in ms/us, or a
+    median interval of >= 10 s in a log of more than a day (no time unit given)."""
+    named = re.search(r"(^|[_\s\[(])(ms|us|µs)[\])]?$", name.lower())
+    if named:
+        unit = "ms" if named.group(2) == "ms" else "us"
+        return (f"time column '{name}' is named like {unit}, read as seconds: give --time-unit {unit} "
+                    f"(or --time-unit s to keep seconds)")
+    if t.size > 1:
+        dt, span = float(np.median(np.diff(t))), float(t[-1] - t[0])
+        if dt >= SLOW_INTERVAL_S and span > LONG_LOG_S:
+            unit = "us" if dt >= 1e4 else "ms"
+            return (f"time column '{name}': the median sample interval is {dt:g} s and the log spans "
+                    f"{span / 86400:.3g} days if it is in seconds; if it is in {unit}, give --time-unit {unit} "
+                    f"(or --time-unit s to keep seconds)")
+    return None
+
+
+def starting_model(args):
+    """(family, size) of --model, its columns filling --temp/--columns."""
+    from ...tcomp import load as load_model
+    model = load_model(args.model)
+    if args.columns is None:
+        args.columns = [",".join(model.axes)]
+    if args.temp is None:
+        args.temp = model.temp_column
+    return model.family, model.size
+
+
 def load(args):
     """Read and join the inputs: dict column -> array, plus the time axis."""
     measured = _names(args.columns)
@@ -61,6 +106,11 @@ def load(args):
         if args.time:
             t = cols[args.time]
             check_time_column(path, args.time, t)
+            if args.time_unit is None:
+                warning = time_unit_warning(args.time, t)
+                if warning:
+                    print(f"warning: {path}: {warning}", file=sys.stderr)
+            t = t * TIME_UNITS[args.time_unit or "s"]
         else:
             t = np.arange(n, dtype=float)
         if t_end is not None:          # join end to end, one median interval apart
@@ -119,10 +169,11 @@ def _fmt_step_params(s):
     return _fmt_params(s["params"])
 
 
-def format_table(name, result):
+def format_table(name, result, start=None):
     rep = result.report()
+    base = (f"base model {start}" if start else f"offset order {rep['base_model']['offset_order']}")
     lines = [f"column {name}: {rep['n_samples']} samples, reference: {rep['base_model']['reference']}, "
-             f"offset order {rep['base_model']['offset_order']}",
+             f"{base}",
              f"  {'step':<5}{'effect':<14}{'params':<24}{'rms before':>11}{'rms after':>11}"
              f"{'cv before':>11}{'cv after':>11}{'p':>10}"]
     lines.append(f"  {'base':<5}{'-':<14}{'-':<24}{'':>11}{rep['base_rms']:>11.4g}"
@@ -169,18 +220,26 @@ def run(args):
         raise InsufficientDataError(f"refine: --folds must be at least 2, got {args.folds}")
     if not 0 < args.alpha < 1:                  # also refuses NaN
         raise RangeError(f"refine: --alpha must be in (0, 1), got {args.alpha}")
+    base, start = None, None
+    if args.model:
+        base = starting_model(args)
+        start = f"{base[0]}:{base[1]} from {args.model}"
+    if not args.columns:
+        raise InputFileError("refine: give --columns (or --model, whose axes are the columns)")
     joined, t, measured, refs, starts = load(args)
     if not args.report_s > 0:                   # also refuses NaN
         raise RangeError(f"refine: --report-s must be > 0, got {args.report_s}")
+    if base is not None and not args.temp:
+        raise InputFileError("refine: --model needs the temperature column (--temp)")
     opts = rf.Options(folds=args.folds, alpha=args.alpha, min_gain=args.min_gain,
-                      report_s=args.report_s)
+                      report_s=args.report_s, base=base)
     reports, results = {}, {}
     for i, name in enumerate(measured):
         data = build_data(joined, t, measured, refs, i, args.temp, args.inputs, starts)
         res = rf.refine(data, opts)
         results[name] = res
         reports[name] = res.report()
-        print(format_table(name, res))
+        print(format_table(name, res, start))
     if args.plot:
         for name, res in results.items():
             from ...refine import write_plots

@@ -1,13 +1,14 @@
-"""`pysig simulate OUT.csv [--seed N] [--load-steps 0:0,5:30,20:0] [--noise-uv-rms 0.3] ...`
+"""`pysig simulate -o OUT.csv [--seed N] [--load-steps 0:0,5:30,20:0] [--noise-uv-rms 0.3] ...`
 
 A load-cell run as the weighing paper's hardware would see it (pysig.sim._loadcell:
 an L6D-like cell into a 24-bit ADS1232-like ADC), written as CSV with the
 columns t, counts, ref_kg.  Every disturbance is an option, off unless
 given; the same options and seed give the same file.  Feed the result to
-`pysig filter OUT.csv --column counts`."""
+`pysig filter OUT.csv --column counts`.  (`pysig simulate OUT.csv`, the
+output as a positional argument, is the same.)"""
 from dataclasses import fields
 
-from ...errors import RangeError
+from ...errors import InputFileError, RangeError
 from ...sim import LoadCellParams, simulate_loadcell, write_loadcell_run
 
 
@@ -24,7 +25,8 @@ def _steps(text):
 def register(sub):
     p = sub.add_parser("simulate", help="simulate a load-cell run (CSV t, counts, ref_kg)",
                        description=__doc__)
-    p.add_argument("output", metavar="OUT.csv")
+    p.add_argument("-o", "--output", dest="output_option", metavar="OUT.csv")
+    p.add_argument("output", metavar="OUT.csv", nargs="?", help="the same as -o OUT.csv")
     p.add_argument("--seed", type=int, default=0)
     defaults = LoadCellParams()
     for f in fields(LoadCellParams):
@@ -41,6 +43,9 @@ def register(sub):
 
 
 def run(args):
+    if (args.output is None) == (args.output_option is None):
+        raise InputFileError("simulate: give the output once: -o OUT.csv")
+    args.output = args.output or args.output_option
     kwargs = {f.name: getattr(args, f.name) for f in fields(LoadCellParams)}
     kwargs["load_steps"] = _steps(args.load_steps)
     params = LoadCellParams(**kwargs)
