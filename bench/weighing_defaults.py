@@ -61,22 +61,17 @@ settle_s_p90_of_settled_steps, cells_every_step_settled,
 steady_std_rel_median_of_cells and _worst_cell,
 glitch_excursion_rel_median_of_cells and _worst_cell.
 """
-import argparse
 import json
-import os
-from pathlib import Path
 
 import numpy as np
 
-from pysig.io import atomic_output
 from pysig.weigh import _recording as recording
 from pysig.weigh import Chain
 from pysig.weigh._calibration import settle_index
 
+from lab import weighing_cli
 from lab.studies.peers import PEERS, run_peer
 
-HERE = Path(__file__).resolve().parent
-SHARED = HERE.parent.parent / "shared" / "data" / "hx711_steps_10hz" / "hx711_steps_10hz.csv"
 RATE_HZ = 10.0
 HOLD = 150                       # samples per plateau (15 s)
 LEVELS = [0, 1, 2, 1, 0, 1, 0, 2, 0]      # in steps: up and down, single and double
@@ -86,6 +81,7 @@ GLITCH_STEPS = 5.0
 # unit -> (step, offset, integer codes)
 UNITS = {"counts": (10000.0, 80000.0, True), "kg": (1.0, 0.0, False), "mV": (0.5, 1.2, False)}
 SEEDS = 2
+PLOT_NAME = "weighing_defaults.png"
 CONFIGS = ("default", "recommended", "paper") + PEERS
 TOL_REL, TOL_SETTLE_S, TOL_ABS = 0.10, 0.1, 0.05
 SETTLED_FROM = 30                # samples after a change from which glitch excursions count (3 s)
@@ -425,21 +421,10 @@ def plot(out, path):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--json", help="write the rows here")
-    ap.add_argument("--plot", metavar="DIR", help="write weighing_defaults.png into DIR")
-    ap.add_argument("--csv", help="real recording (default: ../shared/data copy, else the bundled one)")
-    ap.add_argument("--seeds", type=int, default=SEEDS, help="noise seeds per cell")
-    a = ap.parse_args(argv)
+    a = weighing_cli.parse_args(__doc__, PLOT_NAME, SEEDS, argv)
     rows = grid_rows(a.seeds)
     verdicts = judge(rows)
-    if a.csv:
-        real = real_rows(a.csv)
-    elif SHARED.exists():
-        real = real_rows(SHARED)
-    else:
-        with recording.bundled_csv() as path:
-            real = real_rows(path)
+    real = weighing_cli.on_recording(a.csv, real_rows)
     loose = judge(rows, glitch_slack=0.3)
     out = {"summary": summary(rows), "rows": rows, "real_rows": real, "cells": verdicts, "goals": goals(rows, verdicts, loose),
            "grid": {"sigma_rel": SIGMA_REL, "units": {k: {"step": v[0], "offset": v[1], "integer": v[2]}
@@ -448,14 +433,7 @@ def main(argv=None):
                     "hold_s": HOLD / RATE_HZ, "rate_hz": RATE_HZ, "seeds": a.seeds},
            "definitions": __doc__}
     print_tables(out)
-    if a.json:
-        with atomic_output(a.json) as fh:
-            write_json(out, fh)
-        print(f"\nwrote {a.json}")
-    if a.plot:
-        os.makedirs(a.plot, exist_ok=True)
-        plot(out, Path(a.plot) / "weighing_defaults.png")
-        print(f"wrote {Path(a.plot) / 'weighing_defaults.png'}")
+    weighing_cli.write_outputs(out, a, PLOT_NAME, write_json, plot)
 
 
 if __name__ == "__main__":

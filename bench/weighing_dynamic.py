@@ -41,9 +41,6 @@ de-glitched samples between plateaus; sigma the plateau noise), settle time
 plateaus missed and plateau error (pysig.weigh.recording), and on the
 unloaded channels lc3..lc6 false stable against the 5-sample median.
 """
-import argparse
-import os
-from pathlib import Path
 
 import numpy as np
 from scipy.ndimage import median_filter
@@ -56,9 +53,8 @@ from pysig.weigh import _recording as recording
 from pysig.weigh._calibration import settle_index
 
 import weighing_defaults as wd
+from lab import weighing_cli
 
-HERE = Path(__file__).resolve().parent
-SHARED = HERE.parent.parent / "shared" / "data" / "hx711_steps_10hz" / "hx711_steps_10hz.csv"
 STEP_KG = 2.0
 PLACE_S, BUMP_S, REMOVE_S, DURATION_S = 10.0, 25.0, 62.0, 70.0
 BUMP = (BUMP_S, 0.5, 0.5 * STEP_KG)
@@ -68,6 +64,7 @@ SIGMA_REL = wd.SIGMA_REL
 GLITCH_RATES = (0.0, 0.01)
 UNITS = ("counts", "kg", "mV")
 SEEDS = 2
+PLOT_NAME = "weighing_dynamic.png"
 FAR = ((80.0, 1 / 1000), (80.0, 1 / 50), (10.0, 1 / 5))          # (rate, sigma_rel) far from the tuning
 CHAINS = ("default", "recommended", "paper")
 CONFIGS = wd.CONFIGS
@@ -330,22 +327,11 @@ def plot(res, path):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--json", help="write the rows here")
-    ap.add_argument("--plot", metavar="DIR", help="write weighing_dynamic.png into DIR")
-    ap.add_argument("--csv", help="real recording (default: ../shared/data copy, else the bundled one)")
-    ap.add_argument("--seeds", type=int, default=SEEDS, help="noise seeds per cell")
-    a = ap.parse_args(argv)
+    a = weighing_cli.parse_args(__doc__, PLOT_NAME, SEEDS, argv)
     cells = [(u, s, g, 10.0) for u in UNITS for s in SIGMA_REL for g in GLITCH_RATES]
     far_cells = [(u, s, g, r) for u in UNITS for r, s in FAR for g in GLITCH_RATES]
     rows, far = grid(cells, a.seeds), grid(far_cells, a.seeds)
-    if a.csv:
-        real = real_rows(a.csv)
-    elif SHARED.exists():
-        real = real_rows(SHARED)
-    else:
-        with recording.bundled_csv() as path:
-            real = real_rows(path)
+    real = weighing_cli.on_recording(a.csv, real_rows)
     res = {"summary": {"grid": summary(rows), "far": summary(far)}, "real_rows": real, "rows": rows,
            "far_rows": far,
            "setup": {"step_kg": STEP_KG, "placement_s": PLACE_S, "bump": BUMP, "pours": POURS, "swing": SWING,
@@ -354,14 +340,7 @@ def main(argv=None):
                      "seeds": a.seeds},
            "definitions": __doc__}
     print_tables(res)
-    if a.json:
-        with atomic_output(a.json) as fh:
-            wd.write_json(res, fh)
-        print(f"\nwrote {a.json}")
-    if a.plot:
-        os.makedirs(a.plot, exist_ok=True)
-        plot(res, Path(a.plot) / "weighing_dynamic.png")
-        print(f"wrote {Path(a.plot) / 'weighing_dynamic.png'}")
+    weighing_cli.write_outputs(res, a, PLOT_NAME, wd.write_json, plot)
 
 
 if __name__ == "__main__":
