@@ -590,7 +590,7 @@ def test_api_model_json_any_bit_flip_is_caught(model_json, tmp_path, data, _):
 @pytest.fixture(scope="module")
 def model_image(model_json):
     from pysig.tcomp import _poly_model as tmodel
-    from pysig.store._image import model_image as build
+    from pysig.tcomp._sections import model_image as build
     return build(tmodel.load(model_json), sequence=7)
 
 

@@ -15,7 +15,8 @@ from fleet_cases import fleet_rows, write_fleet_log
 from pysig import cli
 from pysig.errors import InsufficientDataError, RangeError
 from pysig.store._device import SIG_ERR_DEVICE, image_device_status
-from pysig.store._image import SECTION_OFFSET_POLY, find_section, parse_offset_poly
+from pysig.store._image import SECTION_OFFSET_POLY, find_section
+from pysig.tcomp._sections import parse_offset_poly
 from pysig.tcomp import _poly_model as tmodel
 from pysig.tcomp._poly_fit import fit_tcomp
 from pysig.fleet._fit import device_groups, fit_fleet

@@ -13,6 +13,7 @@ from pysig.store import _image_c
 from pysig.tcomp import _tcomp
 from pysig.tcomp import _poly_fit as fit
 from pysig.store import _image as image
+from pysig.tcomp import _sections
 from pysig.sim import _chamber as sim_chamber
 from pysig.errors import ModelFileError
 from spec import image as ref
@@ -78,11 +79,11 @@ def test_generic_sections_round_trip_and_unknown_types_are_skipped():
 
 def test_offset_section_c_loader_equals_python(old_new):
     for model in old_new:
-        img = image.model_image(model, sequence=5, extra_sections=[(image.SECTION_PWL_TABLE, b"xyz")])
+        img = _sections.model_image(model, sequence=5, extra_sections=[(image.SECTION_PWL_TABLE, b"xyz")])
         c = _tcomp.TcompQ.from_image(img)
         assert c.fields() == model.fixed_fields()
         payload = image.find_section(img, image.SECTION_OFFSET_POLY)
-        parsed = image.parse_offset_poly(payload)
+        parsed = _sections.parse_offset_poly(payload)
         assert {k: parsed[k] for k in c.fields()} == c.fields()
 
 
@@ -93,7 +94,7 @@ def test_offset_section_c_loader_equals_python(old_new):
     (lambda b: b[:20], "bad format"),
 ])
 def test_corrupt_images_are_refused_by_c_and_python(old_new, mutate, status):
-    bad = mutate(image.model_image(old_new[0]))
+    bad = mutate(_sections.model_image(old_new[0]))
     with pytest.raises(ModelFileError, match=status):
         _tcomp.TcompQ.from_image(bad)
     with pytest.raises(ModelFileError):
@@ -102,7 +103,7 @@ def test_corrupt_images_are_refused_by_c_and_python(old_new, mutate, status):
 
 def test_malformed_offset_payload_is_a_format_error_in_c():
     m = chamber_model(4, axes="x")
-    payload = bytearray(image.offset_poly_payload(m))
+    payload = bytearray(_sections.offset_poly_payload(m))
     for patch in ({1: 9}, {0: 4}, {3: 1}):               # order 9, 4 axes, reserved != 0
         p = bytearray(payload)
         for k, v in patch.items():
@@ -135,8 +136,8 @@ def load(slot_a, slot_b):
 
 def test_power_cut_after_every_byte_and_bit(old_new):
     old, new = old_new
-    img_old = image.model_image(old, sequence=41)
-    img_new = image.model_image(new, sequence=42)
+    img_old = _sections.model_image(old, sequence=41)
+    img_new = _sections.model_image(new, sequence=42)
     f_old, f_new = old.fixed_fields(), new.fixed_fields()
     assert f_old != f_new
     a = slot(img_old)
@@ -178,7 +179,7 @@ def test_power_cut_after_every_byte_and_bit(old_new):
         assert load(bytes(flipped), b_full) == (1, f_new)
         cases += 1
     # 5. writing over a stale image (no erase): cut after every byte
-    stale = slot(image.model_image(old, sequence=40))
+    stale = slot(_sections.model_image(old, sequence=40))
     for k in range(len(img_new) + 1):
         b = img_new[:k] + stale[k:]
         which, fields = load(a, b)
@@ -205,7 +206,7 @@ def test_sequence_numbers_wrap(seq_a, seq_b, which):
 
 def test_offset_section_with_u_shift_above_15_is_refused():
     m = chamber_model(5, axes="x")
-    p = bytearray(image.offset_poly_payload(m))
+    p = bytearray(_sections.offset_poly_payload(m))
     p[2] = 16
     with pytest.raises(ModelFileError, match="bad format"):
         _tcomp.TcompQ.from_image(image.build_image([(image.SECTION_OFFSET_POLY, bytes(p))]))
@@ -224,7 +225,7 @@ def test_python_constants_match_the_c_headers():
     from pysig.store import _device as device_id
     from spec import device_id as ref_device_id
     assert device_id.SECTION_DEVICE_ID == ref_device_id.SECTION_DEVICE_ID == ids["DEVICE_ID"]
-    assert int(re.search(r"SIG_OFFSET_POLY_FIXED_LEN (\d+)u", hdr).group(1)) == image.OFFSET_POLY_FIXED_LEN
+    assert int(re.search(r"SIG_OFFSET_POLY_FIXED_LEN (\d+)u", hdr).group(1)) == _sections.OFFSET_POLY_FIXED_LEN
     assert int(re.search(r"SIG_IMAGE_HEADER_LEN\s+(\d+)u", hdr).group(1)) == ref.HEADER_LEN
     tc = (CSRC_INCLUDE / "sig_tcomp.h").read_text()
     assert int(re.search(r"SIG_TCOMP_T_PER_DEGC (\d+)", tc).group(1)) == quant.T_PER_DEGC == rtc.T_PER_DEGC

@@ -1,5 +1,5 @@
 """The compact model in the coefficient image (section 8, SIG_SECTION_COMPACT_POLY):
-writer pysig/store/_image.py, spec tests/spec/image.py (load_compact), C loader
+writer pysig/tcomp/_sections.py, spec tests/spec/image.py (load_compact), C loader
 sig_tcomp16_load_image (csrc/tcomp/sig_tcomp16_image.c).  Round trip model ->
 image -> C loader -> apply equals the Python spec bit for bit; every bit flip
 and every truncation is refused with the C model untouched; on mutated
@@ -16,6 +16,7 @@ from conftest import I16, I32, draw_int16_rows
 from pysig.tcomp import _tcomp16
 from pysig.tcomp import _poly_fit as fit, _quant as quant
 from pysig.store import _image as image
+from pysig.tcomp import _sections
 from pysig.sim import _chamber as sim_chamber
 from pysig.cli import main
 from pysig.errors import InputFileError, ModelFileError, RangeError
@@ -43,12 +44,12 @@ def c_status(data):
 def test_round_trip_model_image_c_loader_apply_bit_exact(compact_models_by_order):
     rng = np.random.default_rng(0)
     for order, cm in compact_models_by_order.items():
-        img = image.compact_image(cm, sequence=order,
+        img = _sections.compact_image(cm, sequence=order,
                                   extra_sections=[(image.SECTION_PWL_TABLE, b"xyz"), (0x8001, b"")])
         assert image.read_image(img)[0] == order
         c = _tcomp16.Tcomp16Q.from_image(img)
         fields = cm.fields()
-        assert c.fields() == fields == image.parse_compact_poly(img) == ref.load_compact(img)[1]
+        assert c.fields() == fields == _sections.parse_compact_poly(img) == ref.load_compact(img)[1]
         assert c.raw() == _tcomp16.Tcomp16Q.from_compact(cm).raw()
         n = len(fields["top"])
         t = np.concatenate([np.arange(cm.t_lo - 300, cm.t_hi + 300, 7), [cm.t_lo, cm.t_hi, -32768, 32767]])
@@ -61,17 +62,17 @@ def test_round_trip_model_image_c_loader_apply_bit_exact(compact_models_by_order
 
 def test_payload_layout_is_the_documented_one(compact_models_by_order):
     cm = compact_models_by_order[2]
-    p = image.compact_poly_payload(cm)
-    assert len(p) == image.COMPACT_POLY_FIXED_LEN + 3 * (2 + 4 * 2)
+    p = _sections.compact_poly_payload(cm)
+    assert len(p) == _sections.COMPACT_POLY_FIXED_LEN + 3 * (2 + 4 * 2)
     assert struct.unpack_from("<BBBBhh", p) == (3, 2, cm.w_shift, 0, cm.t_lo, cm.t_hi)
     assert struct.unpack_from("<hii", p, 8) == (cm.top[0], *cm.add[0])
     with pytest.raises(RangeError, match="sig_tcomp16_init"):
-        image.compact_poly_payload({**cm.fields(), "w_shift": 16})
+        _sections.compact_poly_payload({**cm.fields(), "w_shift": 16})
 
 
 def test_every_bit_flip_and_truncation_is_refused_model_untouched(compact_models_by_order):
-    old = image.compact_image(compact_models_by_order[1], sequence=1)
-    new = image.compact_image(compact_models_by_order[2], sequence=2)
+    old = _sections.compact_image(compact_models_by_order[1], sequence=1)
+    new = _sections.compact_image(compact_models_by_order[2], sequence=2)
     c = _tcomp16.Tcomp16Q.from_image(old)
     before, fields = c.raw(), c.fields()
     for bit in range(len(new) * 8):
@@ -96,7 +97,7 @@ def test_image_without_compact_section_and_wrong_section_type():
     with pytest.raises(ModelFileError, match="no compact-polynomial section"):
         _tcomp16.Tcomp16Q.from_image(off)
     with pytest.raises(ModelFileError, match="no section of type 8"):
-        image.parse_compact_poly(off)
+        _sections.parse_compact_poly(off)
 
 
 @st.composite
@@ -155,9 +156,9 @@ def test_c_loader_equals_reference_reader_on_mutated_payloads(case, temps, data)
     if want_st != ref.SIG_OK:
         assert want_st == ref.SIG_ERR_FORMAT and c.raw() == before
         with pytest.raises(ModelFileError):
-            image.parse_compact_poly(img)
+            _sections.parse_compact_poly(img)
         return
-    assert c.fields() == want_fields == image.parse_compact_poly(img)
+    assert c.fields() == want_fields == _sections.parse_compact_poly(img)
     n = len(want_fields["top"])
     x = draw_int16_rows(data, len(temps), n)
     got, status = c.apply(np.array(temps), x)
@@ -184,7 +185,7 @@ def test_cli_export_compact_then_apply_runs_the_c_loader(tmp_path, fitted, capsy
     from pysig.tcomp import _poly_model as tmodel
     cm = quant.quantize_compact(tmodel.load(mj))
     seq, sections = image.read_image(img.read_bytes())     # the compact section, then the units section
-    assert (seq, sections[:1]) == image.read_image(image.compact_image(cm, sequence=4))
+    assert (seq, sections[:1]) == image.read_image(_sections.compact_image(cm, sequence=4))
     assert [t for t, _ in sections[1:]] == [image.SECTION_UNITS]
     assert main(["apply", str(src), "--model", str(img), "--temp", "temp", "--columns", "x,y,z",
                  "-o", str(out)]) == 0

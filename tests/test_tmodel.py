@@ -9,12 +9,13 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from spec import tmodel as ref
-from pysig.store._image import (SECTION_OFFSET_POLY, SECTION_TEMP_CODE, TCODE_INT16, TCODE_UINT16,
-                               build_image, temp_code_payload)
+from pysig.store._image import SECTION_OFFSET_POLY, SECTION_TEMP_CODE, build_image
+from pysig.tcomp._sections import TCODE_INT16, TCODE_UINT16, temp_code_payload
 from pysig.tcomp import _tmodel
 from pysig.tcomp import _quant as quant
 from pysig.tcomp._table_fit import PwlQ16, plan_q16, pwl_payload
-from pysig.store._image import SECTION_PWL_TABLE, compact_poly_payload, SECTION_COMPACT_POLY
+from pysig.store._image import SECTION_PWL_TABLE, SECTION_COMPACT_POLY
+from pysig.tcomp._sections import compact_poly_payload
 from pysig.tcomp._tempcode import TempCode, raw_code, CELSIUS
 
 

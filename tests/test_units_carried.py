@@ -15,7 +15,8 @@ from conftest import CSRC_INCLUDE, require_tool
 from pysig.cli import main
 from pysig.errors import InputFileError, RangeError
 from pysig.io import read_csv
-from pysig.store import SECTION_OFFSET_POLY, SECTION_TEMP_CODE, SECTION_UNITS, build_image, units_payload
+from pysig.store import SECTION_OFFSET_POLY, SECTION_TEMP_CODE, SECTION_UNITS, build_image
+from pysig.tcomp._sections import units_payload
 from pysig.store._image import read_image
 from pysig.tcomp import _calibration as tmodel
 from pysig.tcomp import _poly_fit
@@ -226,7 +227,7 @@ def test_the_c_units_loader_equals_the_spec(vs, ts, to, flags, length):
     (2e8, True, 0.03, -1883.0), (1.0, False, None, None), (1 / 1.5e-7, True, None, None),
     (0.002, True, 0.0029412, 36.53), (12345.678, False, None, None)])
 def test_the_units_section_round_trips(scale, raw, tscale, toffset):
-    from pysig.store import from_decimal
+    from pysig.tcomp._sections import from_decimal
     image = build_image([(SECTION_UNITS, units_payload(scale, raw, tscale, toffset))])
     st_c, f = load_units(image)
     assert st_c == 0 and ref_image.load_units(image) == (st_c, f)

@@ -36,7 +36,7 @@ import numpy as np
 from pysig.errors import RangeError
 from pysig.io import atomic_output, read_csv
 from pysig.sim import _chamber as chamber
-from pysig.store._image import compact_image
+from pysig.tcomp._sections import compact_image
 from pysig.tcomp import _quant as quant
 from pysig.tcomp._poly_fit import fit_tcomp
 from pysig.weigh import chain_fixed_params, chain_params

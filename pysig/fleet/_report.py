@@ -44,7 +44,7 @@ from scipy import stats
 from ..errors import OutputFileError
 from ..io import write_csv
 from ..store._device import device_section
-from ..store._image import model_image
+from ..tcomp._sections import model_image
 from ..tcomp import _poly_model as tmodel
 
 DEFAULT_FALSE_FLAG_RATE = 0.005       # the share of good units the screening is built to flag

@@ -19,9 +19,8 @@ from ._tempcode import CELSIUS, CODE_INT16, CODE_UINT16, TempCode
 from .. import __version__
 from ..io import read_json
 from ..errors import InputFileError, InsufficientDataError, ModelFileError, NonFiniteError, RangeError
-from ..store._image import (SECTION_COMPACT_POLY, SECTION_OFFSET_POLY, SECTION_PWL_TABLE, SECTION_TEMP_CODE,
-                           SECTION_UNITS, TCODE_INT16, TCODE_UINT16, build_image, compact_poly_payload,
-                           find_section, from_decimal, offset_poly_payload, temp_code_payload, units_payload)
+from ..store._image import SECTION_COMPACT_POLY, SECTION_OFFSET_POLY, SECTION_PWL_TABLE, SECTION_TEMP_CODE, SECTION_UNITS, build_image, find_section
+from ._sections import TCODE_INT16, TCODE_UINT16, compact_poly_payload, from_decimal, offset_poly_payload, temp_code_payload, units_payload
 from ._table_fit import pwl_payload, PwlQ16
 from . import _value_scale as vscale
 
