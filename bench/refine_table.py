@@ -17,7 +17,7 @@ import sys
 import time
 
 from pysig.io import atomic_output
-from pysig.refine._loop import refine
+from pysig.refine import refine
 from lab.studies.refine_study import clean_cases, injected_cases, real_cases, row
 
 HERE = os.path.dirname(os.path.abspath(__file__))

@@ -8,7 +8,9 @@ import pytest
 
 from pysig.refine import _effect_models as fx
 from pysig.errors import InsufficientDataError
-from pysig.refine._loop import Options, at_search_edge, cv_residual, fold_rows, improvement_p, refine, rms
+from pysig.refine import Options, refine
+from pysig.refine._cross_validation import cv_residual, fold_rows, rms
+from pysig.refine._stopping import at_search_edge, improvement_p
 
 from lab.studies.refine_cases import EFFECTS, chamber_run, fit_data
 

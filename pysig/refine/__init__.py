@@ -25,8 +25,10 @@ write_plots         residual and effect plots (matplotlib, loaded on use)
 """
 from ._device import correct_c, correct_float, device_model, read_refined_image, refined_image
 from ._effect_models import FitData
-from ._loop import (DEFAULT_ALPHA, DEFAULT_FOLDS, DEFAULT_MIN_GAIN, DEFAULT_REPORT_S, Options, plateau_reference,
-                    refine, stop_test)
+from ._loop import refine
+from ._options import DEFAULT_ALPHA, DEFAULT_FOLDS, DEFAULT_MIN_GAIN, DEFAULT_REPORT_S, Options
+from ._plateaus import plateau_reference
+from ._stopping import stop_test
 
 __all__ = ["refine", "Options", "FitData", "plateau_reference", "stop_test", "DEFAULT_FOLDS", "DEFAULT_ALPHA",
            "DEFAULT_MIN_GAIN", "DEFAULT_REPORT_S", "device_model", "refined_image", "read_refined_image",
