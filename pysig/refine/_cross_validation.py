@@ -49,13 +49,14 @@ def fit_rows(X, y, rows, names):
 
 def cv_residual(data, spec, opts, candidate=None):
     """Out-of-sample residual of `spec` (+ `candidate`, a (family, variant)
-    whose nonlinear parameter is chosen per fold on the training rows).
+    or (family, variant, grid top) whose nonlinear parameter is chosen per
+    fold on the training rows).
     NaN where the sample is masked out."""
     gap = opts.gap if opts.gap is not None else max(1, data.n // (4 * opts.folds))
     specs = [spec]
     if candidate is not None:
-        fam, variant = candidate
-        specs = [spec.with_effect(fx.Effect(fam.name, variant, p)) for p in fam.grid(data)]
+        fam, variant, top = (*candidate, None)[:3]
+        specs = [spec.with_effect(fx.Effect(fam.name, variant, p)) for p in fam.grid(data, top)]
     designs = [fx.design(data, s) for s in specs]
     e = np.full(data.n, np.nan)
     for train, test in fold_rows(data.n, opts.folds, gap):

@@ -2,7 +2,10 @@
 add the candidate effect that most lowers the out-of-sample error
 (pysig.refine._cross_validation), repeat while the gain passes the stopping
 rule (pysig.refine._stopping), and say when structure is left that no
-candidate explains (pysig.refine._diagnostics).  A candidate whose fitted
+candidate explains (pysig.refine._diagnostics).  When the best single
+candidate fails, pairs that each help alone are fitted and judged together
+(pysig.refine._joint); a drift in time is one of the candidates, a nuisance
+reported on its own line and never exported to the device.  A candidate whose fitted
 time constant or width sits at the top of its search range is not tried
 (_stopping.at_search_edge)."""
 from dataclasses import replace
@@ -14,6 +17,7 @@ from . import _robust as robust
 from ._base_model import choose_base_order, repolish, reselect, screen_impulses
 from ._cross_validation import cv_residual, rms
 from ._diagnostics import candidate_relations, residual_diagnostics
+from ._joint import candidate_of, effect_shares, pair_trials
 from ._options import Options
 from ._result import Result, Step
 from ._shape import shape_trials
@@ -84,7 +88,7 @@ def _loop(data, used, impulses, opts):
     spec = fx.ModelSpec(order)
     model = fx.fit(data, spec)
     base = model
-    e_cv = cv_residual(data, spec, opts)
+    e_cv = e_base = cv_residual(data, spec, opts)
     base_cv = rms(e_cv)
     unavailable = {f: fx.FAMILIES[f].unavailable(data) for f in opts.families
                    if fx.FAMILIES[f].unavailable(data)}
@@ -92,6 +96,10 @@ def _loop(data, used, impulses, opts):
     relations = candidate_relations(data, model)
     steps, rejected, at_edge, not_claimed = [], [], [], []
     shaped = False
+
+    def admissible(fam, spec):
+        return at_search_edge(data, fam, spec) is None and not_physical(data, fam, spec, opts, t_sigma) is None
+
     for _ in range(opts.max_steps):
         tried, at_edge, not_claimed = [], [], []
         for name in opts.families:
@@ -112,7 +120,8 @@ def _loop(data, used, impulses, opts):
                     # the earlier effects' parameters move with the newcomer
                     # (a lag fitted alone absorbs part of a hysteresis)
                     trial = repolish(data, trial.spec)
-                e_new = cv_residual(data, trial.spec.without(name), opts, (fam, v))
+                e_new = cv_residual(data, trial.spec.without(name), opts,
+                                    candidate_of(data, trial.spec, name, v))
                 tried.append((rms(e_new), name, v, e_new, trial))
         if opts.shape and not shaped:
             # the best larger offset (one candidate: the size chosen by CV)
@@ -129,20 +138,34 @@ def _loop(data, used, impulses, opts):
         cv_old = rms(e_cv)
         ok, verdict = judge(e_cv, e_new, opts, per_report, len(tried))
         if not ok:
+            # two overlapping effects can each fail alone and pass together
+            pairs = pair_trials(data, model, tried, cv_old, opts, admissible)
+            n_tried = len(tried) + len(pairs)
+            for c, names, variants, e_pair, joint in sorted(pairs, key=lambda x: x[0]):
+                pair_ok, pair_verdict = judge(e_cv, e_pair, opts, per_report, n_tried)
+                if pair_ok:
+                    ok, verdict = True, pair_verdict
+                    cv_new, name, variant, e_new, trial = c, names, variants, e_pair, joint
+                    summary += [{"effect": " + ".join(names), "variant": list(variants), "cv_rms": c}]
+                    break
+        if not ok:
             rejected = [{"effect": name, "variant": variant, "cv_rms": cv_new, "cv_rms_now": cv_old,
                          "cv_gain": 1.0 - cv_new / cv_old if cv_old > 0 else 0.0, **verdict}]
             break
+        names = name if isinstance(name, tuple) else (name,)
         if name == "offset_shape":
             shaped = True
             new_model = trial
-            params = dict(variant)
+            params = [dict(variant)]
         else:
-            fam = fx.FAMILIES[name]
             new_model = reselect(data, trial, opts)
-            eff = next(e for e in new_model.spec.effects if e.name == name)
-            params = fam.describe(eff)
-            params["coefficients"] = {k: v for k, v in new_model.coefficients().items()
-                                      if k.startswith(name + ":")}
+            params = []
+            for n in names:
+                eff = next(e for e in new_model.spec.effects if e.name == n)
+                p = fx.FAMILIES[n].describe(eff)
+                p["coefficients"] = {k: v for k, v in new_model.coefficients().items()
+                                     if k.startswith(n + ":")}
+                params.append(p)
         e_cv_new = cv_residual(data, new_model.spec, opts)   # CV of the model actually kept
         if not rms(e_cv_new) < cv_old:
             # the per-fold parameter choice won, the model as kept does not
@@ -150,10 +173,12 @@ def _loop(data, used, impulses, opts):
                          "cv_rms_now": cv_old, "cv_gain": 1.0 - rms(e_cv_new) / cv_old,
                          **verdict, "kept_model_cv_worse": True}]
             break
-        steps.append(Step(name, params, model.rms(data.mask), new_model.rms(data.mask),
-                          cv_old, rms(e_cv_new), verdict["p_value"], summary,
-                          verdict["cv_systematic_now"],
-                          robust.systematic_rms(e_cv_new, per_report)))
+        for n, p in zip(names, params):
+            steps.append(Step(n, p, model.rms(data.mask), new_model.rms(data.mask),
+                              cv_old, rms(e_cv_new), verdict["p_value"], summary,
+                              verdict["cv_systematic_now"],
+                              robust.systematic_rms(e_cv_new, per_report),
+                              judged_with=[m for m in names if m != n]))
         model, e_cv = new_model, e_cv_new
     return Result(data=data, base=base, final=model, base_order_cv=order_cv, steps=steps,
                   rejected=rejected, at_edge=at_edge, base_cv_rms=base_cv, final_cv_rms=rms(e_cv),
@@ -161,4 +186,7 @@ def _loop(data, used, impulses, opts):
                   diagnostics_after=residual_diagnostics(data, model.residual, opts.test_blocks),
                   relations_before=relations, unavailable=unavailable, test=stop_test(opts),
                   used=used, impulses=impulses, not_claimed=not_claimed,
-                  per_report=per_report, report_s=opts.report_s)
+                  per_report=per_report, report_s=opts.report_s,
+                  shares=effect_shares(data, model, e_cv, opts, per_report) if model.spec.effects else [],
+                  base_cv_systematic=robust.systematic_rms(e_base, per_report),
+                  final_cv_systematic=robust.systematic_rms(e_cv, per_report))

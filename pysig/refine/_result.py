@@ -22,6 +22,7 @@ class Step:
     candidates: list = field(default_factory=list)
     cv_systematic_before: float = float("nan")
     cv_systematic_after: float = float("nan")
+    judged_with: list = field(default_factory=list)   # the effects added together with this one
 
     def as_dict(self):
         return {"effect": self.effect, "params": self.params,
@@ -29,7 +30,9 @@ class Step:
                 "cv_rms_before": self.cv_rms_before, "cv_rms_after": self.cv_rms_after,
                 "cv_systematic_before": self.cv_systematic_before,
                 "cv_systematic_after": self.cv_systematic_after,
-                "p_value": self.p_value, "candidates": self.candidates}
+                "p_value": self.p_value, "candidates": self.candidates,
+                "judged_with": self.judged_with, "nuisance": fx.FAMILIES[self.effect].nuisance
+                if self.effect in fx.FAMILIES else False}
 
 
 @dataclass
@@ -53,6 +56,9 @@ class Result:
     not_claimed: list = field(default_factory=list)
     per_report: int = 1          # samples in one reported reading
     report_s: float = DEFAULT_REPORT_S
+    shares: list = field(default_factory=list)      # each term's share of the systematic error removed
+    base_cv_systematic: float = float("nan")
+    final_cv_systematic: float = float("nan")
 
     @property
     def base_rms(self):
@@ -73,6 +79,19 @@ class Result:
         out["plain_averaged_rms"] = robust.averaged_rms(np.where(used, model.residual, np.nan),
                                                         self.per_report)
         return out
+
+    def drift(self):
+        """The nuisance drift in time: its knots and its size over the record
+        in the reading's unit (zero at the start), or None."""
+        curve = fx.drift_curve(self.data, self.final)
+        if curve is None:
+            return None
+        knots = next(e.variant for e in self.final.spec.effects if e.name == "drift")
+        used = curve[self.data.mask]
+        return {"knots": int(knots), "over_record": float(np.ptp(used)),
+                "start_to_end": float(used[-1] - used[0]),
+                "unit": self.data.labels.get("unit", "the reading's unit"),
+                "exported": False}
 
     def report(self):
         d = self.diagnostics_after
@@ -110,6 +129,12 @@ class Result:
                            "reference": self.data.labels.get("reference", "given")},
             "final_offset": self.final.spec.describe_base() if self.data.T is not None else None,
             "steps": [s.as_dict() for s in self.steps],
+            "effects_found": [s.effect for s in self.steps if s.effect in fx.PHYSICAL],
+            "drift": self.drift(),
+            "cv_systematic": {"before": self.base_cv_systematic, "after": self.final_cv_systematic,
+                              "removed": float(np.sqrt(max(0.0, self.base_cv_systematic ** 2
+                                                            - self.final_cv_systematic ** 2)))},
+            "shares": self.shares,
             "not_added": self.rejected,
             "not_claimed": self.not_claimed,
             "at_search_edge": self.at_edge,

@@ -16,7 +16,7 @@ import statsmodels.api as sm
 
 from . import _robust as robust
 
-EDGE_LOG_MARGIN = 0.05         # within 5 % of the top of a parameter's search range
+EDGE_LOG_MARGIN = 0.05         # within 5 % of the largest value the record resolves
 MIN_TAU_PERIODS = 3.0          # a shorter time constant only smooths noise
 MIN_WIDTH_NOISE = 3.0          # a narrower play operator only smooths the temperature's noise
 
@@ -71,19 +71,19 @@ def stop_test(opts):
 
 def at_search_edge(data, family, spec):
     """None, or what is wrong when `family`'s fitted parameter in `spec` sits
-    at the top of its search range (a time constant of a third of the record,
-    a hysteresis width of 30 % of the span): the record does not resolve it,
-    and the term is then a slow trend in time wearing the effect's name (a
-    step in time pulls creep's time constant there).  Such a candidate is
-    not tried; what is left shows as unexplained."""
+    at the largest value the record resolves (family.limit: a time constant
+    of the whole record, a hysteresis width of the whole span; the search
+    follows a fit past its first range up to there): the term is then a slow
+    trend in time or a line in temperature wearing the effect's name (a step
+    in time pulls creep's time constant there).  Such a candidate is not
+    tried; what is left shows as unexplained."""
     if family.param_name is None:
         return None
     eff = next(e for e in spec.effects if e.name == family.name)
-    hi = family.bounds(data)[1]
+    hi = family.limit(data)
     if np.log(eff.param) < np.log(hi) - EDGE_LOG_MARGIN:
         return None
     return {family.param_name: eff.param, "search_top": float(hi)}
-
 
 
 def not_physical(data, family, spec, opts, t_sigma):
