@@ -249,6 +249,11 @@ class Hysteresis(Family):
         moves = np.diff(play_operator(data.T, 0.05 * span))
         if moves[moves > 0].sum() < 0.1 * span or -moves[moves < 0].sum() < 0.1 * span:
             return "the temperature only rises or only falls (one branch)"
+        # a record that turns once (heat, then cool) puts one branch before
+        # the turn and the other after it: a step in time, not a hysteresis
+        sign = np.sign(moves[moves != 0])
+        if np.count_nonzero(np.diff(sign)) < 2:
+            return "the temperature turns only once (a branch cannot be told from a step in time)"
         return None
 
     def bounds(self, data):
@@ -279,8 +284,16 @@ class Creep(TimeConstantFamily):
 class WarmUp(TimeConstantFamily):
     """A transient in time since power-on, at any temperature: one
     w_s * exp(-(t - t_s) / tau) column per power-on segment s (files joined
-    end to end are separate power-ons), zero before the segment starts."""
+    end to end are separate power-ons), zero before the segment starts.
+    Resolved up to a quarter of the record: a slower one is a drift (the
+    drift's knots are that close)."""
     name = "warm_up"
+
+    def bounds(self, data):
+        return data.dt * 0.5, max(data.dt * 2.0, data.span_t / 4.0)
+
+    def limit(self, data):
+        return self.bounds(data)[1]
 
     def columns(self, data, T_used, effect):
         starts = list(data.segments) + [data.n]

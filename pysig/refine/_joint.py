@@ -1,8 +1,8 @@
 """Effects judged together.  Two effects that overlap can each look too weak
 alone: a drift in time inflates every fold's error and hides a lag, and a
 lag fitted without the drift bends to imitate it.  When the best single
-candidate fails the stopping rule, every pair of candidates that each lower
-the out-of-sample error on their own is fitted jointly (both nonlinear
+candidate fails the stopping rule, pairs of the best candidates are fitted
+jointly (both nonlinear
 parameters re-polished together) and the pair is judged by the same rule,
 its Bonferroni count including the pairs.
 
@@ -30,26 +30,38 @@ def candidate_of(data, spec, name, variant):
     return fam, variant, fx.grid_top(fam, data, eff.param)
 
 
-def pair_trials(data, model, tried, cv_now, opts, admissible):
-    """Joint fits of the pairs of single candidates in `tried` (cv rms,
-    name, variant, e, fitted model) that each beat `cv_now`.  `admissible`
-    (family, spec) -> bool rejects a joint fit whose parameter moved out of
-    what may be claimed.  Returns [(cv rms, (a, b), (va, vb), e, model)]."""
-    helpful = {}
+def pair_trials(data, model, tried, opts, admissible):
+    """Joint fits of pairs among the MAX_PAIR_MEMBERS families whose single
+    candidates in `tried` (cv rms, name, variant, e, fitted model) score
+    best out of sample, whether or not they beat the current model alone
+    (the drift that hides a lag also spoils the lag's own score).  A family
+    with several start variants (hysteresis) is tried in each, with the
+    other member at its best variant.  `admissible` (family, spec) -> bool
+    rejects a joint fit whose parameter moved out of what may be claimed.
+    Returns [(cv rms, (a, b), (va, vb), e, model)]."""
+    best = {}
     for c, name, v, _, trial in sorted(tried, key=lambda x: x[0]):
-        if name in fx.FAMILIES and name not in helpful and c < cv_now:
-            helpful[name] = (v, trial)
+        if name in fx.FAMILIES and name not in best:
+            best[name] = v
     out = []
-    for a, b in combinations(list(helpful)[:MAX_PAIR_MEMBERS], 2):
-        (va, ta), (vb, _) = helpful[a], helpful[b]
-        eff_a = next(e for e in ta.spec.effects if e.name == a)
-        joint = fx.fit_param(data, model.spec.with_effect(eff_a), fx.FAMILIES[b], vb)
-        joint = repolish(data, joint.spec)
-        if not all(admissible(fx.FAMILIES[n], joint.spec) for n in (a, b)):
-            continue
-        e = cv_residual(data, joint.spec.without(b), opts, candidate_of(data, joint.spec, b, vb))
-        out.append((rms(e), (a, b), (va, vb), e, joint))
+    for a, b in combinations(list(best)[:MAX_PAIR_MEMBERS], 2):
+        if fx.FAMILIES[a].param_name is not None and fx.FAMILIES[b].param_name is None:
+            a, b = b, a          # the linear member first: the nonlinear one is searched on top of it
+        for va in _variants(a, best[a]):
+            for vb in _variants(b, best[b]):
+                joint = fx.fit_param(data, model.spec, fx.FAMILIES[a], va)
+                joint = fx.fit_param(data, joint.spec, fx.FAMILIES[b], vb)
+                joint = repolish(data, joint.spec)
+                if not all(admissible(fx.FAMILIES[n], joint.spec) for n in (a, b)):
+                    continue
+                e = cv_residual(data, joint.spec.without(b), opts, candidate_of(data, joint.spec, b, vb))
+                out.append((rms(e), (a, b), (va, vb), e, joint))
     return out
+
+
+def _variants(name, best_variant):
+    fam = fx.FAMILIES[name]
+    return fam.variants if fam.param_name is not None else (best_variant,)
 
 
 def effect_shares(data, model, e_final, opts, per_report):

@@ -139,7 +139,7 @@ def _loop(data, used, impulses, opts):
         ok, verdict = judge(e_cv, e_new, opts, per_report, len(tried))
         if not ok:
             # two overlapping effects can each fail alone and pass together
-            pairs = pair_trials(data, model, tried, cv_old, opts, admissible)
+            pairs = pair_trials(data, model, tried, opts, admissible)
             n_tried = len(tried) + len(pairs)
             for c, names, variants, e_pair, joint in sorted(pairs, key=lambda x: x[0]):
                 pair_ok, pair_verdict = judge(e_cv, e_pair, opts, per_report, n_tried)

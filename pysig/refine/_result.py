@@ -90,7 +90,8 @@ class Result:
         used = curve[self.data.mask]
         return {"knots": int(knots), "over_record": float(np.ptp(used)),
                 "start_to_end": float(used[-1] - used[0]),
-                "unit": self.data.labels.get("unit", "the reading's unit"),
+                "unit": self.data.labels.get("unit") or (f"units of {self.data.labels['column']}"
+                                                         if "column" in self.data.labels else "reading units"),
                 "exported": False}
 
     def report(self):
