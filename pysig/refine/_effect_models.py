@@ -285,12 +285,9 @@ class WarmUp(TimeConstantFamily):
     """A transient in time since power-on, at any temperature: one
     w_s * exp(-(t - t_s) / tau) column per power-on segment s (files joined
     end to end are separate power-ons), zero before the segment starts.
-    Resolved up to a quarter of the record: a slower one is a drift (the
-    drift's knots are that close)."""
+    Resolved up to a third of the record, not followed further: a slower
+    one is a drift (the drift's knots are that close)."""
     name = "warm_up"
-
-    def bounds(self, data):
-        return data.dt * 0.5, max(data.dt * 2.0, data.span_t / 4.0)
 
     def limit(self, data):
         return self.bounds(data)[1]

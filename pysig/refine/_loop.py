@@ -136,11 +136,14 @@ def _loop(data, used, impulses, opts):
         summary = [{"effect": n, "variant": v, "cv_rms": c} for c, n, v, _, _ in tried]
         cv_new, name, variant, e_new, trial = tried[0]
         cv_old = rms(e_cv)
-        ok, verdict = judge(e_cv, e_new, opts, per_report, len(tried))
+        # Bonferroni over the candidate families tried: a family's variant
+        # (order, start branch, knots) is chosen by CV, as the offset shape's size is
+        n_families = len({n for _, n, _, _, _ in tried})
+        ok, verdict = judge(e_cv, e_new, opts, per_report, n_families)
         if not ok:
             # two overlapping effects can each fail alone and pass together
             pairs = pair_trials(data, model, tried, opts, admissible)
-            n_tried = len(tried) + len(pairs)
+            n_tried = n_families + len({names for _, names, _, _, _ in pairs})
             for c, names, variants, e_pair, joint in sorted(pairs, key=lambda x: x[0]):
                 pair_ok, pair_verdict = judge(e_cv, e_pair, opts, per_report, n_tried)
                 if pair_ok:

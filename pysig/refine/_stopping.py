@@ -7,7 +7,9 @@ A candidate with the lowest CV RMS is added only if
   * its out-of-sample squared errors beat the current model's in a one-sided
     Diebold-Mariano test (mean loss differential, HAC/Newey-West standard
     error over a window of n / `test_blocks` samples; statsmodels OLS) at
-    p < alpha / (number of candidates tried in that step) (Bonferroni), and
+    p < alpha / (number of candidate families tried in that step) (Bonferroni;
+    a family's variant, such as an order or a start branch, is chosen by CV
+    as the offset shape's size is), and
   * the systematic error of a reported reading drops by at least `min_gain`
     (relative) and by at least `material` x that reading's noise."""
 import numpy as np
@@ -59,8 +61,8 @@ def judge(e_old, e_new, opts, per_report, n_tried):
 
 STOP_TEST = ("add the candidate with the lowest blocked-CV RMS only if a one-sided Diebold-Mariano "
              "test on the out-of-sample squared-error differential (HAC standard error, window "
-             "n/{tb} samples) gives p < {a} / (candidates tried), the systematic error of a reading "
-             "averaged over {r:g} s falls by >= {g:.0%} and by at least {m:g} x that reading's "
+             "n/{tb} samples) gives p < {a} / (candidate families tried; a family's variant chosen "
+             "by CV), the systematic error of a reading averaged over {r:g} s falls by >= {g:.0%} and by at least {m:g} x that reading's "
              "noise (in quadrature); impulses are left out of fitting and scoring")
 
 
