@@ -28,7 +28,7 @@ import time
 from pysig.io import atomic_output
 from pysig.refine import refine
 from lab.studies.refine_study import clean_cases, injected_cases, real_cases, row
-from lab.studies.overlap_cases import grid_cases, judge_case, real_like_cases
+from lab.studies.overlap_cases import grid_cases, judge_case, options_for, real_like_cases
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "..", "shared", "data")
@@ -115,7 +115,7 @@ def main(argv=None):
             print(ohead)
             for label, truth, data in cases:
                 t0 = time.perf_counter()
-                res = refine(data)
+                res = refine(data, options_for(truth))
                 r = overlap_row(label, truth, res, time.perf_counter() - t0)
                 out[key].append(r)
                 print(fmt_overlap(r), flush=True)

@@ -9,7 +9,8 @@ import pytest
 from pysig.refine import FitData, device_model, refine
 from pysig.refine import _effect_models as fx
 
-from lab.studies.overlap_cases import judge_case, overlap_case, plate_resistor_case, roaming_instrument_case
+from lab.studies.overlap_cases import (judge_case, options_for, overlap_case, plate_resistor_case,
+                                       roaming_instrument_case)
 
 
 @pytest.mark.parametrize("kind,seed", [("thermal_lag+drift", 1), ("hysteresis+drift", 2)])
@@ -59,7 +60,7 @@ def test_wide_hysteresis_on_a_roaming_record_is_found_with_the_drift():
     span), followed there instead of being called unresolvable; alone it
     loses to the drift, together they pass."""
     _, truth, data = roaming_instrument_case(seed=0)
-    res = refine(data)
+    res = refine(data, options_for(truth))
     j = judge_case(truth, res)
     assert j["named_right"] and all(j["params_within_50pct"].values()), j
     assert res.report()["at_search_edge"] == [] or "hysteresis" not in {

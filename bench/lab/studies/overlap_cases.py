@@ -8,7 +8,8 @@ per seed from a range, so no case is tuned to one value.
 
 A case is (label, truth, FitData): truth names the physical effects in the
 record with their parameters ({"thermal_lag": {"tau_s": ..}, ...}) and
-whether a drift in time runs underneath."""
+whether a drift in time runs underneath; "report_s", when present, is the
+reading length to judge by (refine's Options.report_s)."""
 import numpy as np
 
 from pysig.refine import FitData
@@ -150,11 +151,19 @@ def roaming_instrument_case(seed=0, dt=60.0, hours=30.0):
     y = y + rng.uniform(3.0, 5.0) * (T - play_operator(T, w)) / w
     y = y + slow_drift(rng, t, 1.5) + 0.3 * rng.standard_normal(t.size)
     temp = T + 0.05 * rng.standard_normal(t.size)
-    truth = {"effects": {"hysteresis": {"width": w}}, "drift": True,
+    # a day-long log of one sample a minute is read as 10-min averages (the
+    # default 10-s reading would be a single sample)
+    truth = {"effects": {"hysteresis": {"width": w}}, "drift": True, "report_s": 600.0,
              "scale": {"reading": 1.0, "temperature": 1.0}}
     return (f"roaming instrument: {hours:g} h between cold and warm places, hysteresis width "
             f"{w:.1f} °C of {np.ptp(T):.1f}, drift, seed {seed}", truth,
             FitData(y=y, t=t, T=temp, labels={"unit": "mg"}))
+
+
+def options_for(truth):
+    """refine's Options for a case: its reading length when it names one."""
+    from pysig.refine import Options
+    return Options(report_s=truth["report_s"]) if "report_s" in truth else Options()
 
 
 def real_like_cases(seeds=(0, 1, 2)):
