@@ -1,7 +1,7 @@
 """Fleet calibration: many devices of one log (or many logs) fitted at once,
 screened, and written as one model and one device-bound NVM image each.
 
-===============  ==============================================================
+===============  ============================================================
 load_fleet       read and check every log (devices sorted by serial)
 fit_fleet        the batched fit of every device (numpy, no per-device loop);
                  equal to the single-device fit of pysig.tcomp
@@ -11,7 +11,7 @@ write_fleet      per-device models and images, the summary CSV with its
                  screening, fleet plots; written atomically
 DEFAULT_K        the screening band's width (in robust standard deviations)
 SUMMARY          the summary file's name
-===============  ==============================================================
+===============  ============================================================
 """
 from ._data import load_fleet
 from ._fit import fit_fleet

@@ -5,23 +5,23 @@ cross-validated error drops significantly, report the error before and after,
 and say when structure is left that no candidate explains.  Each effect also
 runs on the device (csrc/refine), from the NVM image written here.
 
-==================  ===========================================================
-refine              the loop: base model, candidates, stopping test; a Result
-Options             folds, guard band, significance, smallest gain, families
-FitData             one measured column with its times, temperature, reference
-plateau_reference   a reference from the held plateaus of a log without one
-stop_test           the stopping rule in words (for reports)
-DEFAULT_FOLDS,      the loop's defaults
+===================  ==========================================================
+refine               the loop: base model, candidates, stopping test; a Result
+Options              folds, guard band, significance, smallest gain, families
+FitData              one measured column with its times, temperature, reference
+plateau_reference    a reference from the held plateaus of a log without one
+stop_test            the stopping rule in words (for reports)
+DEFAULT_FOLDS,       the loop's defaults
 DEFAULT_ALPHA,
 DEFAULT_MIN_GAIN,
 DEFAULT_REPORT_S
-device_model        the refined model as the firmware runs it (fixed point)
-refined_image,      its NVM image, and back
+device_model         the refined model as the firmware runs it (fixed point)
+refined_image,       its NVM image, and back
 read_refined_image
-correct_float,      the correction of the device model, float64 and through
-correct_c           the firmware's C code
-write_plots         residual and effect plots (matplotlib, loaded on use)
-==================  ===========================================================
+correct_float,       the correction of the device model, float64 and through
+correct_c            the firmware's C code
+write_plots          residual and effect plots (matplotlib, loaded on use)
+===================  ==========================================================
 """
 from ._device import correct_c, correct_float, device_model, read_refined_image, refined_image
 from ._effect_models import FitData

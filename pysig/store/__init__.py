@@ -3,7 +3,7 @@ format (``docs/image-format.md``), one reader on the device (``csrc/store``),
 CRC-16/CCITT over the whole image, a sequence number for A/B slots, typed
 sections (a model's family, the temperature code, the device id).
 
-==================  ===========================================================
+==================  ======================================================
 build_image         sections + sequence number -> image bytes (with CRC)
 read_image          the checked header and sections of an image
 find_section        one section's payload, or None
@@ -11,7 +11,7 @@ crc16_ccitt         the image's CRC (CRC-16/CCITT-FALSE)
 device_section      the section that binds an image to one device's serial
 require_device      refuse an image made for another device
 SECTION_*           the section types (the same numbers as sig_image.h)
-==================  ===========================================================
+==================  ======================================================
 """
 from ._device import device_section, require_device
 from ._image import (SECTION_COMPACT_POLY, SECTION_CREEP, SECTION_DEVICE_ID, SECTION_EXPERIMENTAL,

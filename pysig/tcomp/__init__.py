@@ -8,7 +8,7 @@ reading's value scale, so the file, the image and the C header agree.
 ``fixed=True`` runs the firmware's C path (int16 readings, int32 / Q
 coefficients) instead of float64.
 
-=======================  ========================================================
+=======================  ======================================================
 fit_model                fit one model per axis; family and size chosen by
                          blocked cross-validation over temperature (``auto``),
                          or given (``poly:N``, ``table:K``, ``table:auto``)
@@ -25,7 +25,7 @@ raw_code
 MAX_FIT_ORDER            the highest polynomial order ``fit_model`` tries
 first_saturated,         readings at an int16 rail (never fitted)
 saturated_reading
-=======================  ========================================================
+=======================  ======================================================
 """
 from ._c_header import c_header
 from ._calibration import apply, apply_image, fit_model, image_bytes, load, load_image, parse_spec

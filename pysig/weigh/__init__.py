@@ -5,29 +5,29 @@ The chain runs the C99 core of ``csrc/weigh`` through Cython; every class
 takes ``fixed=True`` for the firmware's fixed-point form (the one spelling
 of the numeric form in the public API).
 
-=========================  ======================================================
-Chain                      limit -> anti-pulse -> Kalman -> stability (+ tare,
-                           zero tracking, motion), ``process(x) -> (y, stable)``
-LimitFilter, AntiPulse,    each stage alone, the same C as inside the chain
+============================  =======================================================
+Chain                         limit -> anti-pulse -> Kalman -> stability (+ tare,
+                              zero tracking, motion), ``process(x) -> (y, stable)``
+LimitFilter, AntiPulse,       each stage alone, the same C as inside the chain
 Kalman1, StabilityDetector,
 NoiseEstimator
-PRESETS                    the named parameter sets (``auto`` is the default)
-chain_params,              the checked float / fixed-point parameters of a preset
+PRESETS                       the named parameter sets (``auto`` is the default)
+chain_params,                 the checked float / fixed-point parameters of a preset
 chain_fixed_params
-calibrate, Calibration,    counts -> mass from standard masses (JSON, C header)
+calibrate, Calibration,       counts -> mass from standard masses (JSON, C header)
 load_calibration
-find_plateaus              the held levels of a recording (for calibration)
-first_saturated,           a 24-bit converter's rail codes (never filtered)
+find_plateaus                 the held levels of a recording (for calibration)
+first_saturated,              a 24-bit converter's rail codes (never filtered)
 saturated_count
-analyse_recording,         the chain on a recording of held loads (the demo):
-load_recording,            calibration on its plateaus, settle time and plateau
-plot_recording,            error per configuration, and its plot; the bundled
-bundled_recording,         HX711 recording and its loaded channels
+analyse_recording,            the chain on a recording of held loads (the demo):
+load_recording,               calibration on its plateaus, settle time and plateau
+plot_recording,               error per configuration, and its plot; the bundled
+bundled_recording,            HX711 recording and its loaded channels
 RECORDING_CHANNELS
-CODE_MAX                   the largest |count| the fixed-point form takes (24 bit)
-WARN_*, LIMIT_RESEEDED,    the per-sample flags the chain reports
+CODE_MAX                      the largest count magnitude the fixed-point form takes (24 bit)
+WARN_*, LIMIT_RESEEDED,       the per-sample flags the chain reports
 CHAIN_*
-=========================  ======================================================
+============================  =======================================================
 
 Examples
 --------

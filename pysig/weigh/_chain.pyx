@@ -56,7 +56,7 @@ cdef class LimitFilter:
     Parameters
     ----------
     a0 : float
-        The largest accepted |x - Dc|, in signal units (> 0).
+        The largest accepted ``|x - Dc|``, in signal units (> 0).
     lockout_n : int, optional
         0 (the weighing paper's behaviour) or the number of successive
         rejections on one side after which the filter accepts the level
@@ -401,7 +401,7 @@ cdef class StabilityDetector:
 # ---- the noise estimator ------------------------------------------------------
 cdef class NoiseEstimator:
     """The per-sample noise sigma measured on the fly (csrc/include/sig_noise.h):
-    a quantile tracker on |x_k - x_{k-1}| that glitches and steps move by one
+    a quantile tracker on ``|x_k - x_{k-1}|`` that glitches and steps move by one
     small step only.  Fixed: samples are codes, sigma in codes (Q24.7 inside).
 
     Examples
