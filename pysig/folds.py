@@ -17,6 +17,8 @@ held_out_blocks     (train, test) masks, each non-empty block held out in turn
 """
 import numpy as np
 
+__all__ = ["equal_count_blocks", "equal_width_blocks", "held_out_blocks"]
+
 
 def equal_count_blocks(n, n_blocks):
     """Block label (0 .. n_blocks-1) of each of `n` ordered samples: contiguous

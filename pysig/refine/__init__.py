@@ -1,8 +1,11 @@
 """Refine: close the loop on measured data.  Fit the base model, find in its
 residual the effect it lacks (a thermal lag, hysteresis, creep, warm-up, a
-gain drift, a nonlinearity, cross-axis coupling), add it while the blocked
-cross-validated error drops significantly, report the error before and after,
-and say when structure is left that no candidate explains.  Each effect also
+gain drift, a nonlinearity, cross-axis coupling; two at once when they only
+help together), add it while the blocked cross-validated error drops
+significantly, report the error before and after and each effect's share,
+and say when structure is left that no candidate explains.  A slow drift in
+time is fitted under the physics as a nuisance: reported on its own line,
+never part of the device correction.  Each effect also
 runs on the device (csrc/refine), from the NVM image written here.
 
 ===================  ==========================================================
