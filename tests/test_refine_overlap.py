@@ -101,3 +101,13 @@ def test_search_is_followed_past_the_first_top():
     assert lag.bounds(data)[1] < tau < lag.limit(data)
     m = fx.fit_param(data, fx.ModelSpec(1), lag, 0)
     assert abs(m.spec.effects[0].param / tau - 1.0) < 0.05
+
+
+def test_drift_is_unavailable_when_temperature_ranks_with_time():
+    """Rows sorted by temperature (a binned drift curve): a drift in time
+    would be a second offset in temperature."""
+    t = np.arange(200.0)
+    T = np.linspace(-20.0, 60.0, 200)
+    assert "moves with time" in fx.FAMILIES["drift"].unavailable(FitData(y=T.copy(), t=t, T=T))
+    T2 = 20.0 + 15.0 * np.sin(t / 20.0)
+    assert fx.FAMILIES["drift"].unavailable(FitData(y=T2.copy(), t=t, T=T2)) is None

@@ -38,7 +38,7 @@ here are what the fit uses."""
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import optimize, signal
+from scipy import optimize, signal, stats
 
 from ..errors import InsufficientDataError
 from ..lsq import center_scale, fit_linear_model
@@ -47,6 +47,7 @@ from ..tcomp._table_fit import hat_basis
 GRID_POINTS = 20
 EXTEND_FACTOR = 2.0        # a fit at the top of its range: look this much further, step by step
 EXTEND_POINTS = 6
+MONOTONE_RHO = 0.9       # drift unavailable: time and temperature rank alike
 
 from . import _effects
 
@@ -350,7 +351,16 @@ class Drift(Family):
     nuisance = True
 
     def unavailable(self, data):
-        return None if data.span_t > 0 else "the record has no length in time"
+        if not data.span_t > 0:
+            return "the record has no length in time"
+        if data.T is not None:
+            # a temperature that only rises (or only falls) with time, such as
+            # rows sorted by temperature: a function of time is one of temperature
+            rho = stats.spearmanr(data.t[data.mask], data.T[data.mask])[0]
+            if abs(rho) >= MONOTONE_RHO:
+                return (f"the temperature moves with time (Spearman rho {rho:.2f}): a drift in time "
+                        "cannot be told from the offset in temperature")
+        return None
 
     def columns(self, data, T_used, effect):
         knots = np.linspace(data.t[0], data.t[-1], effect.variant)
