@@ -9,6 +9,15 @@ cases are lab.studies.refine_study; this script runs, prints and writes them.
 Clean data is measured on three generators (the rotating-field synthetic
 run of bench/lab/studies/refine_cases.py, the chamber simulator, the load-cell
 simulator), --clean-seeds seeds each; CI runs 20 seeds of the first only.
+
+Overlapping effects (bench/lab/studies/overlap_cases.py): lag + drift,
+hysteresis + drift, warm-up + lag, a drift alone and clean records at two
+noise levels, two sample rates, two record lengths and two units, and
+records built like two real bench logs (a resistor on a stepped plate, an
+instrument carried between cold and warm places); each judged by the
+physical effects named, each parameter within +-50 %, and the blocked-CV
+error cut.  Run with OPENBLAS_NUM_THREADS=1 on a shared machine (many small
+least-squares fits: threads only contend).
 """
 import argparse
 import json
@@ -17,8 +26,9 @@ import sys
 import time
 
 from pysig.io import atomic_output
-from pysig.refine._loop import refine
+from pysig.refine import refine
 from lab.studies.refine_study import clean_cases, injected_cases, real_cases, row
+from lab.studies.overlap_cases import grid_cases, judge_case, options_for, real_like_cases
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "..", "shared", "data")
@@ -32,14 +42,50 @@ def fmt(r):
             f"{rb[0] / rb[1]:.2f}x | {'yes' if r['unexplained'] else 'no'} |")
 
 
+def overlap_row(label, truth, res, seconds):
+    j = judge_case(truth, res)
+    return {"case": label, **j, "seconds": seconds}
+
+
+def fmt_overlap(r):
+    params = ", ".join(f"{k} {r['params'][k]:.4g} (true {v:.4g})" for k, v in r["truth"].items()
+                       if k in r["params"]) or "-"
+    shares = ", ".join(f"{k} {100 * v:.0f} %" for k, v in r["shares"].items()) or "-"
+    ok = all(r["params_within_50pct"].values())
+    return (f"| {r['case']} | {', '.join(r['expected']) or '-'} | {', '.join(r['found']) or 'nothing'} | "
+            f"{'yes' if r['named_right'] else 'NO'} | {params} | {'yes' if ok else 'NO'} | "
+            f"{'yes' if r['drift_reported'] else 'no'} | {r['cv_cut']:.2f}x | {shares} |")
+
+
+def overlap_summary(rows):
+    """Counts by kind of case (the part of the label before the first comma)."""
+    out = {}
+    for r in rows:
+        kind = r["case"].split(",")[0]
+        k = out.setdefault(kind, {"cases": 0, "named_right": 0, "params_within_50pct": 0, "drift_reported": 0,
+                                  "cv_cut_min": float("inf"), "cv_cut_median": None, "_cuts": []})
+        k["cases"] += 1
+        k["named_right"] += r["named_right"]
+        k["params_within_50pct"] += all(r["params_within_50pct"].values())
+        k["drift_reported"] += r["drift_reported"]
+        k["_cuts"].append(r["cv_cut"])
+    for k in out.values():
+        cuts = sorted(k.pop("_cuts"))
+        k["cv_cut_min"], k["cv_cut_median"] = cuts[0], cuts[len(cuts) // 2]
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", help="write the rows as JSON")
     ap.add_argument("--clean-seeds", type=int, default=20)
     ap.add_argument("--skip-injected", action="store_true")
     ap.add_argument("--data", default=DATA, help="the shared recordings (default ../shared/data)")
+    ap.add_argument("--skip-overlap", action="store_true")
+    ap.add_argument("--overlap-seeds", type=int, default=1, help="seeds of each overlapping-effect grid case")
+    ap.add_argument("--real-like-seeds", type=int, default=3)
     args = ap.parse_args(argv)
-    out = {"injected": [], "clean": {}, "real": []}
+    out = {"injected": [], "clean": {}, "real": [], "overlap": [], "real_like": []}
     head = ("| case | injected | refine added | impulses | robust RMS | plain RMS | RMS of 10-s reading | "
             "ratio (robust) | unexplained |\n|---|---|---|---|---|---|---|---|---|")
     if not args.skip_injected:
@@ -60,6 +106,25 @@ def main(argv=None):
             out["clean"][label] = {"seeds": args.clean_seeds, "nothing_added": n_clean, "added": added,
                                    "seconds": time.perf_counter() - t0}
             print(f"clean, {label}: nothing added in {n_clean} of {args.clean_seeds} seeds", flush=True)
+        print()
+    if not args.skip_overlap:
+        ohead = ("| case | in the record | refine named | right | parameter (true) | within 50 % | drift line | "
+                 "CV cut | share of systematic removed |\n|---|---|---|---|---|---|---|---|---|")
+        for key, cases in (("real_like", real_like_cases(tuple(range(args.real_like_seeds)))),
+                           ("overlap", grid_cases(tuple(range(args.overlap_seeds))))):
+            print(ohead)
+            for label, truth, data in cases:
+                t0 = time.perf_counter()
+                res = refine(data, options_for(truth))
+                r = overlap_row(label, truth, res, time.perf_counter() - t0)
+                out[key].append(r)
+                print(fmt_overlap(r), flush=True)
+            print()
+        out["overlap_summary"] = overlap_summary(out["overlap"] + out["real_like"])
+        for kind, k in out["overlap_summary"].items():
+            print(f"{kind}: named right {k['named_right']}/{k['cases']}, parameters within 50 % "
+                  f"{k['params_within_50pct']}/{k['cases']}, drift line {k['drift_reported']}/{k['cases']}, "
+                  f"CV cut min {k['cv_cut_min']:.2f}x median {k['cv_cut_median']:.2f}x")
         print()
     print(head)
     for label, data in real_cases(args.data):

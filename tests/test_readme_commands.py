@@ -2,7 +2,8 @@
 from the program: the command table of "Command line" and every line of
 every ```sh block, in README order, in one directory (a command that needs
 a file gets it from an earlier command, from ../shared/data, or from the
-few inputs written here: standard-mass readings and fleet logs)."""
+few inputs written here: standard-mass readings, fleet logs and the refine
+example's generated record)."""
 import re
 import shlex
 import shutil
@@ -12,6 +13,7 @@ import pytest
 
 from conftest import ROOT, SHARED_DATA, require_shared_data
 from fleet_cases import fleet_rows, write_fleet_log
+from lab.studies.overlap_cases import roaming_instrument_case
 from pysig.cli import main
 from pysig.io import write_csv
 
@@ -72,6 +74,8 @@ def write_inputs(work):
     for part in range(2):
         sel = np.array([int(s[-4:]) % 2 == part for s in serial])
         write_fleet_log(work / "dataset" / f"part-{part}.parquet", serial[sel], temp[sel], y[sel])
+    _, _, roaming = roaming_instrument_case(0)       # the refine worked example's record
+    write_csv(work / "roaming.csv", {"t_s": roaming.t, "temp_c": roaming.T, "offset_mg": roaming.y})
 
 
 def test_every_readme_command_runs(tmp_path, monkeypatch, capsys):

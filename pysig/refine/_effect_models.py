@@ -9,6 +9,7 @@ The measurement model refine fits, in the sensor's own unit (LSB, counts):
           + c * (lag_tau(r) - r) / |r|max                 creep
           + sum_k n_k u_r^k  (k >= 2)                     nonlinearity
           + sum_i x_i u_other_i                           cross_axis
+          + sum_j q_j hat_j(t)                            drift (a nuisance)
     T' = lag_tau(T)  when thermal_lag is in the model, T otherwise
 
 u(T) is T centred and scaled to [-1, 1] (pysig.lsq.center_scale), r the
@@ -18,6 +19,18 @@ nonlinear parameters (lag and creep time constants, hysteresis width) are
 found by a 1-D search (a log grid, then scipy.optimize.minimize_scalar on
 the full data).
 
+Search ranges come from the record: a time constant from half a sample
+period to a third of the record, a hysteresis width from 0.1 % to half the
+temperature span.  A fit at the top of that range is followed further, up to
+what the record can still resolve (a time constant of the whole record, a
+width of the whole span: beyond it the term is a line in time or in
+temperature that the base model already has); only there is it at the edge.
+
+The drift is a slow function of time (piecewise linear over a few knots
+spanning the record) fitted with the temperature model, so the physical
+effects are judged on top of it; it is a nuisance, not a property of the
+device, and is left out of the device correction.
+
 The on-device forms of the state (lag IIR, play operator) are in
 csrc/include/sig_effects.h and csrc/refine/ (sig_lag.c, sig_hyst.c);
 tests/spec/effects.py is their fixed-point spec.  The float forms
@@ -25,12 +38,16 @@ here are what the fit uses."""
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import optimize, signal
+from scipy import optimize, signal, stats
 
 from ..errors import InsufficientDataError
 from ..lsq import center_scale, fit_linear_model
+from ..tcomp._table_fit import hat_basis
 
 GRID_POINTS = 20
+EXTEND_FACTOR = 2.0        # a fit at the top of its range: look this much further, step by step
+EXTEND_POINTS = 6
+MONOTONE_RHO = 0.9       # drift unavailable: time and temperature rank alike
 
 from . import _effects
 
@@ -131,18 +148,29 @@ class Family:
     param_name = None      # name of the nonlinear parameter, if any
     param_unit = ""
     variants = (0,)
+    nuisance = False       # a nuisance term: judged like an effect, never a property of the device
 
     def unavailable(self, data):
         """None when the family applies to `data`, else the reason it does not."""
         return None
 
-    def grid(self, data):
-        """Values of the nonlinear parameter to try: log-spaced over bounds."""
+    def grid(self, data, top=None):
+        """Values of the nonlinear parameter to try: log-spaced over bounds
+        (up to `top` when the search was extended past them)."""
         b = self.bounds(data)
-        return [None] if b is None else list(np.geomspace(b[0], b[1], GRID_POINTS))
+        if b is None:
+            return [None]
+        return list(np.geomspace(b[0], max(b[1], top or b[1]), GRID_POINTS))
 
     def bounds(self, data):
+        """(low, top) of the first search, from the record."""
         return None
+
+    def limit(self, data):
+        """The largest value the record can resolve: the search is extended
+        up to it when a fit sits at the top of `bounds`."""
+        b = self.bounds(data)
+        return None if b is None else b[1]
 
     def columns(self, data, T_used, effect):
         """Regressor columns (n, k) and their names."""
@@ -159,11 +187,14 @@ class Family:
 
 class TimeConstantFamily(Family):
     """A family whose parameter is a time constant: from half a sample to a
-    third of the recording."""
+    third of the recording, extended up to the whole recording."""
     param_name = "tau_s"
 
     def bounds(self, data):
         return data.dt * 0.5, max(data.dt * 2.0, data.span_t / 3.0)
+
+    def limit(self, data):
+        return max(data.dt * 2.0, data.span_t)
 
 
 class GainDrift(Family):
@@ -219,11 +250,19 @@ class Hysteresis(Family):
         moves = np.diff(play_operator(data.T, 0.05 * span))
         if moves[moves > 0].sum() < 0.1 * span or -moves[moves < 0].sum() < 0.1 * span:
             return "the temperature only rises or only falls (one branch)"
+        # a record that turns once (heat, then cool) puts one branch before
+        # the turn and the other after it: a step in time, not a hysteresis
+        sign = np.sign(moves[moves != 0])
+        if np.count_nonzero(np.diff(sign)) < 2:
+            return "the temperature turns only once (a branch cannot be told from a step in time)"
         return None
 
     def bounds(self, data):
         span = float(np.ptp(data.T)) or 1.0
-        return span * 1e-3, span * 0.3
+        return span * 1e-3, span * 0.5
+
+    def limit(self, data):
+        return float(np.ptp(data.T)) or 1.0
 
     def columns(self, data, T_used, effect):
         w = effect.param
@@ -246,8 +285,13 @@ class Creep(TimeConstantFamily):
 class WarmUp(TimeConstantFamily):
     """A transient in time since power-on, at any temperature: one
     w_s * exp(-(t - t_s) / tau) column per power-on segment s (files joined
-    end to end are separate power-ons), zero before the segment starts."""
+    end to end are separate power-ons), zero before the segment starts.
+    Resolved up to a third of the record, not followed further: a slower
+    one is a drift (the drift's knots are that close)."""
     name = "warm_up"
+
+    def limit(self, data):
+        return self.bounds(data)[1]
 
     def columns(self, data, T_used, effect):
         starts = list(data.segments) + [data.n]
@@ -294,8 +338,48 @@ class CrossAxis(Family):
         return np.column_stack(cols), names
 
 
+class Drift(Family):
+    """A slow drift in time under the physics (an instrument settling after
+    it is set up, a zero that does not come back): piecewise linear in time
+    over `knots` uniform knots spanning the record (2: a straight line).
+    A few knots only, so it is slower than any effect it could hide (a
+    warm-up or a lag of a fraction of the record).  A nuisance: reported as
+    its own line, never exported to the device."""
+    name = "drift"
+    variants = (2, 3, 4, 5)
+    variant_name = "knots"
+    nuisance = True
+
+    def unavailable(self, data):
+        if not data.span_t > 0:
+            return "the record has no length in time"
+        if data.T is not None:
+            # a temperature that only rises (or only falls) with time, such as
+            # rows sorted by temperature: a function of time is one of temperature
+            rho = stats.spearmanr(data.t[data.mask], data.T[data.mask])[0]
+            if abs(rho) >= MONOTONE_RHO:
+                return (f"the temperature moves with time (Spearman rho {rho:.2f}): a drift in time "
+                        "cannot be told from the offset in temperature")
+        return None
+
+    def columns(self, data, T_used, effect):
+        knots = np.linspace(data.t[0], data.t[-1], effect.variant)
+        # the hats sum to one: the first is the constant the base already has
+        return hat_basis(data.t, knots)[:, 1:], [f"knot{j}" for j in range(1, effect.variant)]
+
+
 FAMILIES = {f.name: f for f in (GainDrift(), ThermalLag(), Hysteresis(), Creep(),
-                                Nonlinearity(), CrossAxis(), WarmUp())}
+                                Nonlinearity(), CrossAxis(), WarmUp(), Drift())}
+PHYSICAL = tuple(name for name, f in FAMILIES.items() if not f.nuisance)
+
+
+def drift_curve(data, model):
+    """The fitted drift in time (the reading's unit, zero at the start), or None."""
+    cols = [j for j, nm in enumerate(model.names) if nm.startswith("drift:")]
+    if not cols:
+        return None
+    curve = model.design[:, cols] @ model.beta[cols]
+    return curve - curve[0]
 
 
 # ---- the model: base + effects ------------------------------------------------
@@ -349,7 +433,6 @@ def design(data, spec):
     cols, names = ([], []) if table else ([np.ones(data.n)], ["const"])
     T_used = temperature_used(data, spec) if data.T is not None else None
     if table:                 # the hats sum to one: they carry the constant
-        from ..tcomp._table_fit import hat_basis
         hats = hat_basis(data.u_T(T_used), np.linspace(-1.0, 1.0, spec.base_order))
         cols.extend(hats.T)
         names.extend(f"{TABLE_PREFIX}{j}" for j in range(spec.base_order))
@@ -397,10 +480,22 @@ def fit(data, spec, rows=None):
     return FittedModel(spec, beta, names, pred, data.y - pred, X)
 
 
+def grid_top(family, data, param):
+    """Top of the grid a fold searches for `family`'s parameter, given the
+    full-data fit `param`: the first range's top, or past it (up to what
+    the record resolves) when the fit was followed there."""
+    b = family.bounds(data)
+    if b is None or param is None or param < 0.9 * b[1]:
+        return None
+    return min(family.limit(data), param * EXTEND_FACTOR)
+
+
 def fit_param(data, spec, family, variant):
     """Best nonlinear parameter of `family` added to `spec`, on all masked
-    samples: the grid minimum, polished by a bounded scalar search in log
-    space.  Returns the fitted model with the new effect."""
+    samples: the grid minimum (the grid extended past the top of the first
+    range, up to family.limit, while the minimum sits at its top), polished
+    by a bounded scalar search in log space.  Returns the fitted model with
+    the new effect."""
     grid = family.grid(data)
     if grid == [None]:
         return fit(data, spec.with_effect(Effect(family.name, variant, None)))
@@ -409,8 +504,15 @@ def fit_param(data, spec, family, variant):
         m = fit(data, spec.with_effect(Effect(family.name, variant, float(np.exp(logp)))))
         return float(np.sum(m.residual[data.mask] ** 2))
 
-    logs = np.log(grid)
+    logs = list(np.log(grid))
     vals = [sse(v) for v in logs]
+    limit = np.log(family.limit(data))
+    while int(np.argmin(vals)) == len(vals) - 1 and logs[-1] < limit - 1e-9:
+        top = min(limit, logs[-1] + np.log(EXTEND_FACTOR))
+        more = list(np.linspace(logs[-1], top, EXTEND_POINTS + 1)[1:])
+        logs += more
+        vals += [sse(v) for v in more]
+    logs = np.asarray(logs)
     i = int(np.argmin(vals))
     lo, hi = logs[max(i - 1, 0)], logs[min(i + 1, len(logs) - 1)]
     best = logs[i]

@@ -22,6 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputFileError, InsufficientDataError, NonFiniteError, RangeError
+from ..folds import equal_width_blocks, held_out_blocks
 from ..io import read_csv
 from ..lsq import fit_poly
 from ._table_fit import fit_pwl
@@ -167,16 +168,14 @@ def check_size(family, size, n_distinct):
 def blocked_folds(temp, n_blocks=DEFAULT_BLOCKS):
     """Index arrays of the held-out interior blocks: equal-width contiguous
     temperature blocks, the first and last never held out; empty blocks are
-    skipped."""
+    skipped (pysig.folds, the blocked folds refine uses too)."""
     temp = np.asarray(temp, dtype=float)
     if not isinstance(n_blocks, (int, np.integer)) or n_blocks < 3:
         raise RangeError(f"blocked CV needs at least 3 blocks (two ends kept), got {n_blocks!r}")
-    lo, hi = float(temp.min()), float(temp.max())
-    if not hi > lo:
+    if not float(temp.max()) > float(temp.min()):
         raise InsufficientDataError("blocked CV: all temperatures are equal")
-    block = np.minimum(((temp - lo) / (hi - lo) * n_blocks).astype(int), n_blocks - 1)
-    folds = [np.flatnonzero(block == b) for b in range(1, n_blocks - 1)]
-    folds = [f for f in folds if f.size]
+    labels = equal_width_blocks(temp, n_blocks)
+    folds = [np.flatnonzero(test) for _, test in held_out_blocks(labels, n_blocks, keep_ends=True)]
     if not folds:
         raise InsufficientDataError("blocked CV: no data in the interior blocks")
     return folds

@@ -13,7 +13,7 @@ from pysig.sim._chamber import ChamberParams, simulate as sim_chamber
 from pysig.sim._loadcell import simulate as sim_loadcell
 from lab.studies.refine_cases import chamber_run, fit_data, loadcell_creep_run
 from pysig.refine import _effect_models as fx
-from pysig.refine._loop import plateau_reference
+from pysig.refine import plateau_reference
 
 LOADS = ((0.0, 0.0), (20.0, 5.0), (80.0, 10.0), (150.0, 20.0), (220.0, 10.0),
          (300.0, 0.0), (360.0, 15.0), (420.0, 2.0))

@@ -169,6 +169,24 @@ def _fmt_step_params(s):
     return _fmt_params(s["params"])
 
 
+def drift_and_share_lines(rep):
+    """The nuisance drift on its own line, effects judged as a pair, and each
+    term's share of the out-of-sample systematic error removed."""
+    lines = []
+    d = rep["drift"]
+    if d:
+        lines.append(f"  drift in time (nuisance, not in the device correction): {d['over_record']:.4g} "
+                     f"{d['unit']} over the record ({d['start_to_end']:+.4g} start to end, {d['knots']} knots)")
+    pairs = {tuple(sorted([s["effect"], *s["judged_with"]])) for s in rep["steps"] if s["judged_with"]}
+    for pair in sorted(pairs):
+        lines.append(f"  judged together: {' + '.join(pair)} (neither passed alone)")
+    if rep["shares"]:
+        c = rep["cv_systematic"]
+        lines.append(f"  systematic error of a reading, out of sample: {c['before']:.4g} -> {c['after']:.4g}; "
+                     "share removed: " + ", ".join(f"{r['effect']} {100 * r['share']:.0f} %" for r in rep["shares"]))
+    return lines
+
+
 def format_table(name, result, start=None):
     rep = result.report()
     base = (f"base model {start}" if start else f"offset order {rep['base_model']['offset_order']}")
@@ -194,6 +212,7 @@ def format_table(name, result, start=None):
                  f"{a['systematic_rms']:.4g}")
     if rep["final_offset"] and any(s["effect"] == "offset_shape" for s in rep["steps"]):
         lines.append(f"  offset shape: {rep['final_offset']}")
+    lines += drift_and_share_lines(rep)
     for r in rep["not_added"]:
         lines.append(f"  not added: {_fmt_variant(r)} (systematic gain "
                      f"{100 * r['systematic_gain']:.1f} %, removed {r['systematic_removed']:.3g} vs "

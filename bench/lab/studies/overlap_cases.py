@@ -1,0 +1,199 @@
+"""Generated records where effects overlap, for the refine bench: two
+records built like real bench logs (a resistor on a temperature-stepped
+plate; an instrument carried between cold and warm places for more than a
+day) and a grid of overlapping cases (lag + drift, hysteresis + drift,
+warm-up + lag, a drift alone, clean) over noise levels, sample rates,
+record lengths and units.  Every parameter that the judge checks is drawn
+per seed from a range, so no case is tuned to one value.
+
+A case is (label, truth, FitData): truth names the physical effects in the
+record with their parameters ({"thermal_lag": {"tau_s": ..}, ...}) and
+whether a drift in time runs underneath; "report_s", when present, is the
+reading length to judge by (refine's Options.report_s)."""
+import numpy as np
+
+from pysig.refine import FitData
+from pysig.refine._effect_models import first_order_lag, lag_alpha, play_operator
+
+# (label, reading scale, reading offset, temperature scale, temperature offset)
+UNITS = (("LSB, °C", 1.0, 2000.0, 1.0, 0.0),
+         ("mV, raw temperature code (128/°C)", 0.05, 1650.0, 128.0, 3200.0))
+NOISE = (0.5, 2.0)               # reading noise, in LSB before the unit's scale
+RATES_S = (2.0, 10.0)            # sample period
+LENGTHS_S = (4 * 3600.0, 12 * 3600.0)
+KINDS = ("thermal_lag+drift", "hysteresis+drift", "warm_up+thermal_lag", "drift", "clean")
+
+
+def ramp_hold_profile(rng, t, lo=0.0, hi=50.0, legs=10):
+    """Temperature that ramps to a random target and holds there, `legs`
+    times over the record, alternating up and down so both branches of a
+    hysteresis are visited; ramp rates differ from leg to leg."""
+    L = t[-1] - t[0]
+    knots_t, knots_T = [t[0]], [rng.uniform(lo, lo + 0.2 * (hi - lo))]
+    for k in range(legs):
+        up = k % 2 == 0
+        target = rng.uniform(lo + 0.6 * (hi - lo), hi) if up else rng.uniform(lo, lo + 0.4 * (hi - lo))
+        leg = L / legs
+        ramp = leg * rng.uniform(0.3, 0.6)
+        knots_t += [knots_t[-1] + ramp, knots_t[-1] + leg]
+        knots_T += [target, target]
+    return np.interp(t, knots_t, knots_T)
+
+
+def slow_drift(rng, t, size):
+    """A settling after set-up (an exponential of a fifth to a half of the
+    record) plus a slow trend of random sign: not of the form refine fits
+    (piecewise linear), so its fit is an approximation."""
+    L = t[-1] - t[0]
+    settle = size * rng.uniform(0.5, 1.0) * rng.choice([-1.0, 1.0])
+    trend = size * rng.uniform(0.3, 1.0) * rng.choice([-1.0, 1.0])
+    return settle * (1.0 - np.exp(-(t - t[0]) / (L * rng.uniform(0.2, 0.5)))) + trend * (t - t[0]) / L
+
+
+def overlap_case(kind, seed=0, noise=NOISE[0], dt=RATES_S[0], length_s=LENGTHS_S[0], unit=UNITS[0]):
+    """One grid case: the base offset (1.5 LSB/°C, curved), the effects of
+    `kind` with parameters drawn from ranges tied to the record (a lag of
+    1/80..1/30 of it, a warm-up of 1/30..1/10, a hysteresis width of
+    10..60 % of the span), noise, and the unit's scale and offset."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, length_s, dt)
+    T_true = ramp_hold_profile(rng, t)
+    effects = kind.split("+") if kind != "clean" else []
+    truth = {"effects": {}, "drift": "drift" in effects}
+    T_die = T_true
+    if "thermal_lag" in effects:
+        tau = length_s * rng.uniform(1 / 80, 1 / 30)
+        T_die = first_order_lag(T_true, lag_alpha(tau, dt))
+        truth["effects"]["thermal_lag"] = {"tau_s": tau}
+    y = 1.5 * (T_die - 25.0) + 0.006 * (T_die - 25.0) ** 2
+    if "hysteresis" in effects:
+        w = float(np.ptp(T_die)) * rng.uniform(0.1, 0.6)
+        y = y + 4.0 * (T_die - play_operator(T_die, w)) / w
+        truth["effects"]["hysteresis"] = {"width": w}
+    if "warm_up" in effects:
+        tau = length_s * rng.uniform(1 / 30, 1 / 10)
+        y = y + rng.uniform(6.0, 12.0) * np.exp(-t / tau)
+        truth["effects"]["warm_up"] = {"tau_s": tau}
+    if "drift" in effects:
+        y = y + slow_drift(rng, t, 6.0)
+    y = y + noise * rng.standard_normal(t.size)
+    temp = T_true + 0.02 * rng.standard_normal(t.size)
+    name, y_scale, y_off, t_scale, t_off = unit
+    truth["scale"] = {"reading": y_scale, "temperature": t_scale}
+    if "hysteresis" in truth["effects"]:
+        truth["effects"]["hysteresis"]["width"] *= t_scale
+    label = (f"{kind}, noise {noise:g} LSB, every {dt:g} s, {length_s / 3600:g} h, {name}, seed {seed}")
+    data = FitData(y=y_off + y_scale * y, t=t, T=t_off + t_scale * temp, labels={"unit": name.split(",")[0]})
+    return label, truth, data
+
+
+def grid_cases(seeds=(0,)):
+    """Every kind at every noise level, sample rate, length and unit."""
+    for kind in KINDS:
+        for noise in NOISE:
+            for dt in RATES_S:
+                for length_s in LENGTHS_S:
+                    for k, unit in enumerate(UNITS):
+                        for seed in seeds:
+                            yield overlap_case(kind, seed=seed + 7 * k, noise=noise, dt=dt,
+                                               length_s=length_s, unit=unit)
+
+
+def plate_resistor_case(seed=0, dt=2.0, noise_ohm=0.02):
+    """A resistor (100 Ω, 3850 ppm/K) on a plate stepped 1 K at a time from
+    20 to 35 °C (a hold of 4-6 min per step), then left to cool towards
+    the room.  The plate's sensor follows its setpoint in a few seconds;
+    the resistor follows the plate several times slower (20-60 s); a drift
+    runs underneath: a settling after set-up and a shift that does not come
+    back when the plate cools.  The record gives the plate's temperature."""
+    rng = np.random.default_rng(seed)
+    hold = rng.uniform(240.0, 360.0)
+    n_steps = 15
+    heat = n_steps * hold + hold
+    L = heat + rng.uniform(4000.0, 6000.0)
+    t = np.arange(0.0, L, dt)
+    setpoint = 20.0 + np.minimum(np.floor(t / hold), n_steps)
+    cool = t >= heat
+    setpoint = np.where(cool, 22.0 + 13.0 * np.exp(-(t - heat) / rng.uniform(900.0, 1500.0)), setpoint)
+    plate = first_order_lag(setpoint, lag_alpha(rng.uniform(2.0, 5.0), dt))
+    tau_r = rng.uniform(20.0, 60.0)
+    resistor = first_order_lag(plate, lag_alpha(tau_r, dt))
+    ohm = 100.0 * (1.0 + 3.85e-3 * (resistor - 20.0))
+    settle = 0.15 * rng.uniform(0.6, 1.0) * (1.0 - np.exp(-t / rng.uniform(600.0, 1500.0)))
+    no_return = 0.08 * rng.uniform(0.6, 1.0) * np.clip((t - heat) / (L - heat), 0.0, 1.0)
+    y = ohm + settle + no_return + noise_ohm * rng.standard_normal(t.size)
+    temp = plate + 0.005 * rng.standard_normal(t.size)
+    # the settling is a transient after set-up: a warm-up is a right name for it
+    truth = {"effects": {"thermal_lag": {"tau_s": tau_r}}, "drift": True, "may_also": ["warm_up"],
+             "scale": {"reading": 1.0, "temperature": 1.0}}
+    return (f"plate-stepped resistor: 1 K steps, lag {tau_r:.0f} s, settling + no-return drift, "
+            f"seed {seed}", truth, FitData(y=y, t=t, T=temp, labels={"unit": "ohm"}))
+
+
+def roaming_instrument_case(seed=0, dt=60.0, hours=30.0):
+    """An instrument carried between cold places (-3..8 °C) and warm ones
+    (24..36 °C) for more than a day, 1-4 h in each; its temperature settles
+    towards each place's in 15-40 min.  Its offset (in mg) follows the
+    temperature along a play-operator hysteresis of width 55-75 % of the
+    span, plus a slow drift in time."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0.0, hours * 3600.0, dt)
+    place = np.empty(t.size)
+    k, cold = 0, bool(rng.integers(2))
+    while k < t.size:
+        stay = int(rng.uniform(1.0, 4.0) * 3600.0 / dt)
+        place[k:k + stay] = rng.uniform(-3.0, 8.0) if cold else rng.uniform(24.0, 36.0)
+        k += stay
+        cold = not cold
+    T = first_order_lag(place, lag_alpha(rng.uniform(900.0, 2400.0), dt))
+    w = float(np.ptp(T)) * rng.uniform(0.55, 0.75)
+    y = 0.8 * (T - 20.0) - 0.004 * (T - 20.0) ** 2
+    y = y + rng.uniform(3.0, 5.0) * (T - play_operator(T, w)) / w
+    y = y + slow_drift(rng, t, 1.5) + 0.3 * rng.standard_normal(t.size)
+    temp = T + 0.05 * rng.standard_normal(t.size)
+    # a day-long log of one sample a minute is read as 10-min averages (the
+    # default 10-s reading would be a single sample)
+    truth = {"effects": {"hysteresis": {"width": w}}, "drift": True, "report_s": 600.0,
+             "scale": {"reading": 1.0, "temperature": 1.0}}
+    return (f"roaming instrument: {hours:g} h between cold and warm places, hysteresis width "
+            f"{w:.1f} °C of {np.ptp(T):.1f}, drift, seed {seed}", truth,
+            FitData(y=y, t=t, T=temp, labels={"unit": "mg"}))
+
+
+def options_for(truth):
+    """refine's Options for a case: its reading length when it names one."""
+    from pysig.refine import Options
+    return Options(report_s=truth["report_s"]) if "report_s" in truth else Options()
+
+
+def real_like_cases(seeds=(0, 1, 2)):
+    for seed in seeds:
+        yield plate_resistor_case(seed)
+    for seed in seeds:
+        yield roaming_instrument_case(seed)
+
+
+def judge_case(truth, result):
+    """What the bench scores: the physical effects found against those in
+    the record, each parameter within +-50 % of the truth, the drift seen
+    or not, and the blocked-CV error cut (base / final)."""
+    rep = result.report()
+    found = rep["effects_found"]
+    params = {}
+    for s in rep["steps"]:
+        for k, v in s["params"].items():
+            if k in ("tau_s", "width"):
+                params[s["effect"]] = v
+    within = {}
+    for name, p in truth["effects"].items():
+        (key, true), = p.items()
+        within[name] = bool(name in params and abs(params[name] / true - 1.0) <= 0.5)
+    return {"found": found, "expected": sorted(truth["effects"]),
+            "named_right": sorted(set(found) - set(truth.get("may_also", ()))) == sorted(truth["effects"]),
+            "params_within_50pct": within,
+            "params": params,
+            "truth": {n: next(iter(p.values())) for n, p in truth["effects"].items()},
+            "drift_in_record": truth["drift"], "drift_reported": rep["drift"] is not None,
+            "cv_cut": rep["base_cv_rms"] / rep["final_cv_rms"] if rep["final_cv_rms"] > 0 else float("inf"),
+            "shares": {r["effect"]: r["share"] for r in rep["shares"]},
+            "unexplained": rep["unexplained"]["unexplained"]}

@@ -1,0 +1,84 @@
+"""The base model refine starts from and returns to: the offset order
+chosen by blocked CV, re-chosen once effects are in, the nonlinear
+parameters re-polished together, and the impulse screening on the base
+residual."""
+from dataclasses import replace
+
+import numpy as np
+
+from . import _effect_models as fx
+from . import _robust as robust
+from ._cross_validation import cv_residual, rms
+from ..errors import InsufficientDataError
+
+MAX_BASE_ORDER = 5
+
+
+def choose_base_order(data, opts, effects=()):
+    """Offset order by blocked CV (1..5, bounded by distinct temperatures),
+    with `effects` in the model; 0 when there is no temperature.
+    Returns (order, {order: cv_rms})."""
+    if data.T is None:
+        return 0, {}
+    distinct = np.unique(data.T[data.mask]).size
+    orders = range(1, max(1, min(MAX_BASE_ORDER, distinct - 1)) + 1)
+    scores = {}
+    for p in orders:
+        try:
+            scores[p] = rms(cv_residual(data, fx.ModelSpec(p, tuple(effects)), opts))
+        except InsufficientDataError:
+            break
+    if not scores:
+        raise InsufficientDataError("refine: too few samples for an offset polynomial of order 1")
+    return min(scores, key=scores.get), scores
+
+
+def repolish(data, spec, passes=2):
+    """Refit every nonlinear parameter in turn with the others held
+    (coordinate passes), so an effect fitted before a later one is not stuck
+    with the value it took when the model lacked the later one."""
+    model = fx.fit(data, spec)
+    n_nonlinear = sum(1 for e in spec.effects if fx.FAMILIES[e.name].param_name)
+    for _ in range(passes if n_nonlinear > 1 else 1):
+        for e in spec.effects:
+            fam = fx.FAMILIES[e.name]
+            if fam.param_name is None:
+                continue
+            model = fx.fit_param(data, model.spec.without(e.name), fam, e.variant)
+    return model
+
+
+def base_spec(data, opts):
+    """(ModelSpec, {order: cv_rms}) of the base model: the starting model
+    `opts.base` when given, else the offset order chosen by blocked CV."""
+    if opts.base is not None:
+        family, size = opts.base
+        return fx.ModelSpec(int(size), (), family), {}
+    order, order_cv = choose_base_order(data, opts)
+    return fx.ModelSpec(order), order_cv
+
+
+def reselect(data, model, opts):
+    """After an effect is added: choose the offset order again with the
+    effects in place (a lag, for one, changes which order fits), then
+    re-polish the nonlinear parameters."""
+    if data.T is None or model.spec.base_family != "poly" or opts.base is not None:
+        return model            # a starting model given by the user keeps its size
+    order, _ = choose_base_order(data, opts, model.spec.effects)
+    if order == model.spec.base_order:
+        return model
+    return repolish(data, fx.ModelSpec(order, model.spec.effects))
+
+
+def screen_impulses(data, opts):
+    """Fit the base offset with every usable sample, flag impulses on its
+    residual (robust.impulse_mask) and return (data without them, used
+    mask, impulse mask)."""
+    used = data.mask.copy()
+    if opts.impulse_k is None:
+        return data, used, np.zeros(data.n, dtype=bool)
+    resid = fx.fit(data, base_spec(data, opts)[0]).residual
+    imp = robust.impulse_mask(resid, used, opts.impulse_k)
+    if not imp.any():
+        return data, used, imp
+    return replace(data, mask=used & ~imp), used, imp

@@ -1,0 +1,85 @@
+"""Out-of-sample error of a refine model: cross-validation blocked in time.
+The samples are cut into `folds` contiguous blocks (pysig.folds, the same
+blocked folds tcomp's model choice uses); each block is predicted by a model
+fitted on the others minus a guard band of `gap` samples on each side of it,
+so a lag or a drift cannot leak from neighbouring samples into the test
+block.  A candidate's nonlinear parameter (time constant, width) is chosen
+inside each fold on its training samples only."""
+import numpy as np
+
+from . import _effect_models as fx
+from ..errors import InsufficientDataError
+from ..folds import equal_count_blocks, held_out_blocks
+from ..lsq import fit_linear_model
+
+
+def fold_rows(n, folds, gap):
+    """(train, test) boolean masks of each non-empty contiguous time block."""
+    return held_out_blocks(equal_count_blocks(n, folds), folds, gap=gap)
+
+
+def bridge_rows(X_train, names):
+    """Rows tying the table knots the training rows do not determine (a
+    held-out block falls between them) to their neighbours by a zero second
+    difference, so the table is linear across the gap, as interpolating
+    firmware would be (pysig.tcomp._table_fit bridges the same way).  Returns
+    (rows, zeros) to stack under the training design, or None."""
+    idx = [j for j, nm in enumerate(names) if nm.startswith(fx.TABLE_PREFIX)]
+    if len(idx) < 3:
+        return None
+    weight = X_train[:, idx].sum(axis=0)
+    weak = [k for k in range(len(idx)) if weight[k] < 0.5]
+    if not weak:
+        return None
+    rows = np.zeros((len(weak), X_train.shape[1]))
+    for r, k in enumerate(weak):
+        c = min(max(k, 1), len(idx) - 2)
+        rows[r, idx[c - 1]], rows[r, idx[c]], rows[r, idx[c + 1]] = 1.0, -2.0, 1.0
+    return rows, np.zeros(len(weak))
+
+
+def fit_rows(X, y, rows, names):
+    """Least squares of X[rows] on y[rows], table knots bridged (bridge_rows)."""
+    Xt, yt = X[rows], y[rows]
+    extra = bridge_rows(Xt, names)
+    if extra is not None:
+        Xt, yt = np.vstack([Xt, extra[0]]), np.concatenate([yt, extra[1]])
+    return fit_linear_model(Xt, yt, what="refine cv")
+
+
+def cv_residual(data, spec, opts, candidate=None):
+    """Out-of-sample residual of `spec` (+ `candidate`, a (family, variant)
+    or (family, variant, grid top) whose nonlinear parameter is chosen per
+    fold on the training rows).
+    NaN where the sample is masked out."""
+    gap = opts.gap if opts.gap is not None else max(1, data.n // (4 * opts.folds))
+    specs = [spec]
+    if candidate is not None:
+        fam, variant, top = (*candidate, None)[:3]
+        specs = [spec.with_effect(fx.Effect(fam.name, variant, p)) for p in fam.grid(data, top)]
+    designs = [fx.design(data, s) for s in specs]
+    e = np.full(data.n, np.nan)
+    for train, test in fold_rows(data.n, opts.folds, gap):
+        tr = train & data.mask
+        te = test & data.mask
+        if not te.any():
+            continue
+        if tr.sum() < designs[0][0].shape[1] + 1:
+            raise InsufficientDataError(
+                f"refine: a cross-validation fold keeps {int(tr.sum())} training samples for "
+                f"{designs[0][0].shape[1]} parameters; use fewer folds or more data")
+        best = None
+        for X, names in designs:
+            beta, _ = fit_rows(X, data.y, tr, names)
+            res = data.y[tr] - X[tr] @ beta
+            sse = float(res @ res)
+            if best is None or sse < best[0]:
+                best = (sse, X, beta)
+        _, X, beta = best
+        e[te] = data.y[te] - X[te] @ beta
+    return e
+
+
+def rms(e):
+    e = e[np.isfinite(e)]
+    return float(np.sqrt(np.mean(e ** 2))) if e.size else float("nan")

@@ -1,0 +1,81 @@
+"""Effects judged together.  Two effects that overlap can each look too weak
+alone: a drift in time inflates every fold's error and hides a lag, and a
+lag fitted without the drift bends to imitate it.  When the best single
+candidate fails the stopping rule, pairs of the best candidates are fitted
+jointly (both nonlinear
+parameters re-polished together) and the pair is judged by the same rule,
+its Bonferroni count including the pairs.
+
+Once the loop stops, each effect's share of the systematic error removed:
+the out-of-sample systematic error of the final model without that effect
+(the others held), in quadrature over the final one, normalised over the
+effects."""
+from itertools import combinations
+
+import numpy as np
+
+from . import _effect_models as fx
+from . import _robust as robust
+from ._base_model import repolish
+from ._cross_validation import cv_residual, rms
+
+MAX_PAIR_MEMBERS = 3       # pairs among the three best helpful candidates
+
+
+def candidate_of(data, spec, name, variant):
+    """(family, variant, grid top) to let cross-validation choose `name`'s
+    parameter per fold, given its full-data fit in `spec`."""
+    fam = fx.FAMILIES[name]
+    eff = next(e for e in spec.effects if e.name == name)
+    return fam, variant, fx.grid_top(fam, data, eff.param)
+
+
+def pair_trials(data, model, tried, opts, admissible):
+    """Joint fits of pairs among the MAX_PAIR_MEMBERS families whose single
+    candidates in `tried` (cv rms, name, variant, e, fitted model) score
+    best out of sample, whether or not they beat the current model alone
+    (the drift that hides a lag also spoils the lag's own score).  A family
+    with several start variants (hysteresis) is tried in each, with the
+    other member at its best variant.  `admissible` (family, spec) -> bool
+    rejects a joint fit whose parameter moved out of what may be claimed.
+    Returns [(cv rms, (a, b), (va, vb), e, model)]."""
+    best = {}
+    for c, name, v, _, trial in sorted(tried, key=lambda x: x[0]):
+        if name in fx.FAMILIES and name not in best:
+            best[name] = v
+    out = []
+    for a, b in combinations(list(best)[:MAX_PAIR_MEMBERS], 2):
+        if fx.FAMILIES[a].param_name is not None and fx.FAMILIES[b].param_name is None:
+            a, b = b, a          # the linear member first: the nonlinear one is searched on top of it
+        for va in _variants(a, best[a]):
+            for vb in _variants(b, best[b]):
+                joint = fx.fit_param(data, model.spec, fx.FAMILIES[a], va)
+                joint = fx.fit_param(data, joint.spec, fx.FAMILIES[b], vb)
+                joint = repolish(data, joint.spec)
+                if not all(admissible(fx.FAMILIES[n], joint.spec) for n in (a, b)):
+                    continue
+                e = cv_residual(data, joint.spec.without(b), opts, candidate_of(data, joint.spec, b, vb))
+                out.append((rms(e), (a, b), (va, vb), e, joint))
+    return out
+
+
+def _variants(name, best_variant):
+    fam = fx.FAMILIES[name]
+    return fam.variants if fam.param_name is not None else (best_variant,)
+
+
+def effect_shares(data, model, e_final, opts, per_report):
+    """Each term's share of the systematic error removed: the final model's
+    out-of-sample residual without it (the others held) against `e_final`.
+    Returns [{effect, systematic_without, removed, share}]."""
+    sys_final = robust.systematic_rms(e_final, per_report)
+    rows = []
+    for eff in model.spec.effects:
+        e = cv_residual(data, model.spec.without(eff.name), opts)
+        sys_without = robust.systematic_rms(e, per_report)
+        rows.append({"effect": eff.name, "systematic_without": sys_without,
+                     "removed": float(np.sqrt(max(0.0, sys_without ** 2 - sys_final ** 2)))})
+    total = sum(r["removed"] ** 2 for r in rows)
+    for r in rows:
+        r["share"] = r["removed"] ** 2 / total if total > 0 else 0.0
+    return rows
