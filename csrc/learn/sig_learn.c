@@ -125,7 +125,7 @@ static bool watch_residual(sig_learn *s, const int16_t *r, bool in_range)
         if (s->have_prev) {
             d = x - s->prev_r[a];
             if (d < 0) d = -d;
-            s->noise[a] += sig_asr32(d * 16 - s->noise[a], 5u);
+            s->noise[a] += d * 16 - (s->noise[a] >> 5);   /* noise >= 0 */
         }
         s->prev_r[a] = (int16_t)x;
         if (!s->has_model || !in_range || s->h[a] == 0) continue;

@@ -71,8 +71,8 @@ static void refresh_thresholds(sig_learn *s)
     uint32_t sigma;
     if (s->noise_n < SIG_LEARN_NOISE_MIN_N) return;
     for (a = 0u; a < s->cfg.n_axes; a++) {
-        /* sigma = E|r - r_prev| * sqrt(pi) / 2 ~ noise * 227 / 256 */
-        sigma = ((uint32_t)s->noise[a] * 227u) >> 8;
+        /* sigma = E|r - r_prev| * sqrt(pi) / 2 ~ (noise / 32) * 227 / 256 */
+        sigma = ((uint32_t)s->noise[a] * 227u) >> 13;
         if (sigma < s->cfg.sigma_floor) sigma = s->cfg.sigma_floor;
         s->k[a] = (int32_t)((sigma * s->cfg.k_sigma) >> 4);
         s->h[a] = (int32_t)((sigma * s->cfg.h_sigma) >> 4);
