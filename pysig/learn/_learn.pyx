@@ -152,7 +152,7 @@ cdef class DeviceLearner:
     def replay(self, codes, raw, still, uint32_t solve_every):
         """The device loop over a log: per sample apply the model in use
         (sig_tmodel_apply) and step the learner; after every solve_every-th
-        sample solve, and load a committed image (as firmware writes it to
+        step of the learner (its own clock) solve, and load a committed image (as firmware writes it to
         the free slot and boots from it).  codes: uint16 temperature codes
         (n,); raw: int16 (n, n_axes); still: bool (n,).  Returns (comp int16
         (n, n_axes), learner status int16 (n,), model sequence uint32 (n,),
@@ -185,7 +185,7 @@ cdef class DeviceLearner:
                 memcpy(&y[i, 0], &x[i, 0], na * sizeof(int16_t))
                 stv[i] = sig_learn_step(&self.s, t, &x[i, 0], NULL, g[i] != 0)
             sq[i] = self.sequence
-            if (i + 1) % solve_every:
+            if self.s.steps % solve_every:      # the device's clock, so split calls agree
                 continue
             img_len = 0
             st = sig_learn_solve(&self.s, &self.model if self.has_model else NULL, self.live_seq,

@@ -228,29 +228,37 @@ def _le(v, n):
     return (v & ((1 << (8 * n)) - 1)).to_bytes(n, "little")
 
 
-def replay(cfg, codes, raw, still, start_image, solve_every):
-    """The device loop of DeviceLearner.replay: (comp, status, seq, commits,
-    solves) as lists, commits [(index, report, image)]."""
-    lr, model, seq = Learner(cfg), None, 0
-    if start_image is not None:
-        _, model = tmodel.load(start_image)
-        seq = image.sequence(start_image)
-        lr.use_model(model)
+class Device:
+    """The learner and the model in use, as DeviceLearner holds them."""
+
+    def __init__(self, cfg, start_image=None):
+        self.lr, self.model, self.seq = Learner(cfg), None, 0
+        if start_image is not None:
+            self.use_image(start_image)
+
+    def use_image(self, img):
+        _, self.model = tmodel.load(img)
+        self.seq = image.sequence(img)
+        self.lr.use_model(self.model)
+
+
+def replay(dev, codes, raw, still, solve_every):
+    """The device loop of DeviceLearner.replay on a Device: (comp, status,
+    seq, commits, solves) as lists, commits [(index, report, image)]."""
+    lr, cfg = dev.lr, dev.lr.cfg
     comp, stat, seqs, commits, solves = [], [], [], [], []
     for i, (code, x, g) in enumerate(zip(codes, raw, still)):
         t = tmodel.code_to_t(cfg["code_kind"], int(code))
         x = [int(v) for v in x]
-        y = tmodel.apply(model, int(code), x)[0] if model is not None else list(x)
+        y = tmodel.apply(dev.model, int(code), x)[0] if dev.model is not None else list(x)
         comp.append(y)
-        stat.append(lr.step(t, x, y if model is not None else None, bool(g)))
-        seqs.append(seq if model is not None else 0)
-        if (i + 1) % solve_every:
+        stat.append(lr.step(t, x, y if dev.model is not None else None, bool(g)))
+        seqs.append(dev.seq if dev.model is not None else 0)
+        if lr.steps % solve_every:
             continue
-        st, img, rep = lr.solve(seq)
+        st, img, rep = lr.solve(dev.seq)
         solves.append((i, rep))
         if img is not None:
-            _, model = tmodel.load(img)
-            seq = image.sequence(img)
-            lr.use_model(model)
+            dev.use_image(img)
             commits.append((i, rep, img))
     return comp, stat, seqs, commits, solves
