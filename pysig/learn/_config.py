@@ -56,3 +56,17 @@ class LearnConfig:
                 return LearnConfig(t_base=base, bin_shift=shift, n_bins=max(n, 3), **fields)
         raise RangeError(f"learn: temperatures {t_lo}..{t_hi} span more than {MAX_BINS} bins of "
                          f"{1 << MAX_SHIFT} (the learner's widest grid)")
+
+    @staticmethod
+    def for_log(t, n_axes, start_image=None, **fields):
+        """`for_range` over the log's int16 temperatures and the start
+        model's range (so a committed table can carry the whole stored
+        range); RangeError when together they need a wider grid."""
+        from ._learn import DeviceLearner
+        lo, hi = int(min(t)), int(max(t))
+        if start_image is not None:
+            probe = DeviceLearner(LearnConfig(n_axes=n_axes).as_dict())
+            if probe.use_image(start_image) == 0:
+                m_lo, m_hi = probe.model_range
+                lo, hi = min(lo, m_lo), max(hi, m_hi)
+        return LearnConfig.for_range(lo, hi, n_axes=n_axes, **fields)

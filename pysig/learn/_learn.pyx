@@ -39,6 +39,7 @@ cdef extern from "sig_learn.h":
         int32_t h[3]
         int32_t noise[3]
         uint32_t steps
+        int16_t model_lo, model_hi
         bint has_model, committed, stale
     ctypedef struct sig_learn_report:
         uint32_t sse_new, sse_stored
@@ -140,6 +141,11 @@ cdef class DeviceLearner:
     @property
     def stale(self):
         return bool(self.s.stale)
+
+    @property
+    def model_range(self):
+        """(t_lo, t_hi) of the model in use, None when none."""
+        return (self.s.model_lo, self.s.model_hi) if self.has_model else None
 
     @property
     def sequence(self):
