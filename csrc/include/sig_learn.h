@@ -56,11 +56,15 @@
  *                so the shifted difference fits 32 bits),
  *                Y = Yj + asr((Yl - Yj) * f, 12).
  *   validation   held-out by temperature, leave one bin out: every covered
- *                bin with covered bins on both sides is predicted from its
- *                two covered neighbours (the candidate) and by the stored
- *                model at round(T_i / 16) (16 * -apply(0); 0 when there is no
- *                stored model); errors in Q4 clamped to +-4095, squared and
- *                summed over bins and axes (< 2^30): sse_new, sse_stored.
+ *                bin is predicted from its two nearest covered bins (the
+ *                candidate; an end bin by extrapolation from the two next to
+ *                it, f = -floor(((Tj - T) << 12) / (Tl - Tj)) >= -8192 on the
+ *                left, f <= 12288 on the right, so a candidate reaching beyond
+ *                the model's range is judged there too) and by the model in
+ *                use at round(T_i / 16) (16 * -apply(0); 0 when there is no
+ *                model); errors in Q4 clamped to +-4095, squared and summed
+ *                over bins and axes (< 16 * 3 * 2^24 = 3 * 2^28): sse_new,
+ *                sse_stored.
  *                Commit only when sse_new <= sse_stored - (sse_stored >>
  *                margin_shift) (better by the margin 2^-margin_shift) and
  *                sse_stored > 0: a model is never replaced by a worse one,
@@ -82,7 +86,7 @@
  *                image's + 1.  The caller writes it into the slot
  *                sig_image_select_slot did not select (the A/B power-cut
  *                guarantee), loads it and calls sig_learn_use_model.
- *   cost         divisions: 1 + n_axes per covered bin, 1 per validated bin,
+ *   cost         divisions: 1 + n_axes per covered bin, 1 per held-out bin,
  *                1 per knot; none in sig_learn_step.
  */
 #ifndef SIG_LEARN_H

@@ -114,25 +114,43 @@ static void make_points(const sig_learn *s, learn_points *p)
     }
 }
 
-/* Leave-one-bin-out errors of the candidate and of the model in use. */
+/* Q12 position of a held-out point from its two neighbours (a < b): inside
+ * as frac_q12; beyond an end (x < a or x > b) extrapolated, the fraction
+ * limited to [-8192, 12288] (at most two spacings out). */
+static int32_t held_out_frac(int32_t a, int32_t b, int32_t x)
+{
+    int32_t f;
+    if (x < a) {
+        f = -(int32_t)(((uint32_t)(a - x) << FRAC_BITS) / (uint32_t)(b - a));
+        return f < INT32_C(-8192) ? INT32_C(-8192) : f;
+    }
+    f = frac_q12(a, b, x);
+    return f > INT32_C(12288) ? INT32_C(12288) : f;
+}
+
+/* Leave-one-bin-out errors of the candidate and of the model in use: every
+ * covered bin is predicted from its two nearest covered neighbours (the end
+ * bins by extrapolation from the two next to them, so a candidate that
+ * reaches beyond the model's range is judged there too). */
 static uint8_t validate(const sig_learn *s, const sig_tmodel *m, const learn_points *p,
                         uint32_t *sse_new, uint32_t *sse_stored)
 {
     int32_t ref[SIG_LEARN_MAX_AXES] = {0, 0, 0};
     int32_t f;
-    uint8_t i, a, n_val = 0u;
+    uint8_t i, j, l, a;
     *sse_new = 0u;
     *sse_stored = 0u;
-    for (i = 1u; i + 1u < p->n; i++) {
-        f = frac_q12(p->t[i - 1u], p->t[i + 1u], p->t[i]);
+    for (i = 0u; i < p->n; i++) {
+        j = i == 0u ? 1u : (i + 1u == p->n ? (uint8_t)(i - 2u) : (uint8_t)(i - 1u));
+        l = (uint8_t)(j == i + 1u ? i + 2u : (i + 1u == p->n ? i - 1u : i + 1u));
+        f = held_out_frac(p->t[j], p->t[l], p->t[i]);
         if (m != NULL) model_q4(m, t_of_q4(s, p->t[i]), ref, s->cfg.n_axes);
         for (a = 0u; a < s->cfg.n_axes; a++) {
-            *sse_new += sq_err(p->y[i][a] - lerp(p->y[i - 1u][a], p->y[i + 1u][a], f));
+            *sse_new += sq_err(p->y[i][a] - lerp(p->y[j][a], p->y[l][a], f));
             *sse_stored += sq_err(p->y[i][a] - ref[a]);
         }
-        n_val++;
     }
-    return n_val;
+    return p->n;
 }
 
 /* Knot k's value per axis (Q4): see "table" in sig_learn.h.  *j walks the

@@ -141,15 +141,17 @@ class Learner:
         return self.cfg["t_base"] + ((tq + 8) >> 4)
 
     def _validate(self, pts):
-        n = self.cfg["n_axes"]
+        n, m = self.cfg["n_axes"], len(pts)
         sse_new = sse_old = 0
-        for (_, ta, ya), (_, t, y), (_, tb, yb) in zip(pts, pts[1:], pts[2:]):
-            f = _frac(ta, tb, t)
+        for i, (_, t, y) in enumerate(pts):
+            j, l = (1, 2) if i == 0 else ((m - 3, m - 2) if i == m - 1 else (i - 1, i + 1))
+            (_, ta, ya), (_, tb, yb) = pts[j], pts[l]
+            f = -min(((ta - t) << 12) // (tb - ta), 8192) if t < ta else min(_frac(ta, tb, t), 12288)
             ref = model_q4(self.model, self._t(t), n) if self.model else [0] * n
             for a in range(n):
                 sse_new += _clamp(y[a] - _lerp(ya[a], yb[a], f), -ERR_MAX, ERR_MAX) ** 2
                 sse_old += _clamp(y[a] - ref[a], -ERR_MAX, ERR_MAX) ** 2
-        return sse_new, sse_old, max(len(pts) - 2, 0)
+        return sse_new, sse_old, m
 
     def _knot(self, pts, k):
         c, n = self.cfg, self.cfg["n_axes"]
