@@ -27,16 +27,17 @@
  *                heating and cooling samples are summed alike.
  *   still residual  r = the stored model's output for the still sample
  *                (the caller computes it anyway: sig_tmodel_apply), in LSB.
- *   noise        per axis N += 16 |r - r_prev| - (N >> 5) over successive
- *                still samples (r clamped to +-2047): N / 32 is an EWMA over
- *                32 samples of 16 |r - r_prev|, kept x32 so that the floor of
- *                the update does not bias it (N < 2^21); for white noise
- *                E|r - r_prev| = 2 sigma / sqrt(pi) ~ 1.13 sigma.
+ *   noise        per axis N += d - (N >> 5), uint16, over successive still
+ *                samples, d = min(|r - r_prev|, 2047) (r clamped to +-2047):
+ *                N / 32 is an EWMA over 32 samples of d in LSB, kept x32 so
+ *                that the floor of the update does not bias it (N <= 32 *
+ *                2047 < 2^16); for white noise E|r - r_prev| = 2 sigma /
+ *                sqrt(pi) ~ 1.13 sigma.
  *   CUSUM        per axis, two-sided, on 16 * r clamped to +-2^15:
  *                  S+ = max(0, S+ + 16r - k),  S- = max(0, S- - 16r - k)
  *                stale when S+ > h or S- > h.  k = k_sigma * sigma and
  *                h = h_sigma * sigma (k_sigma, h_sigma in Q4), sigma =
- *                max(sigma_floor, N * 227 / 2^13), refreshed by every
+ *                max(sigma_floor, N * 227 / 2^9) (Q4), refreshed by every
  *                sig_learn_solve (no multiply per sample); the test runs once
  *                a solve has set them after >= 32 noise samples.
  *                Skipped (SIG_LEARN_EXTRAPOLATED) outside the stored model's
@@ -133,11 +134,13 @@ typedef struct {
     uint16_t count[SIG_LEARN_MAX_BINS];
     int32_t cusum_pos[SIG_LEARN_MAX_AXES], cusum_neg[SIG_LEARN_MAX_AXES];
     int32_t k[SIG_LEARN_MAX_AXES], h[SIG_LEARN_MAX_AXES];  /* Q4 LSB; h == 0: test not armed */
-    int32_t noise[SIG_LEARN_MAX_AXES];                     /* N: 32 x the Q4 EWMA */
+    uint16_t noise[SIG_LEARN_MAX_AXES];                    /* N: 32 x the EWMA of |d|, LSB */
     int16_t prev_r[SIG_LEARN_MAX_AXES];
     uint32_t steps;         /* sig_learn_step calls: the clock of `period` */
     uint32_t last_commit;   /* steps at the last commit */
     uint16_t noise_n;       /* successive still pairs seen, stops at 65535 */
+    uint16_t grid_span;     /* n_bins << bin_shift (<= 16384), from the configuration */
+    uint16_t bin_mask;      /* 2^bin_shift - 1 */
     int16_t model_lo, model_hi;   /* range of the model in use */
     bool has_model, committed, stale, have_prev;
 } sig_learn;

@@ -19,6 +19,8 @@ sig_status sig_learn_init(sig_learn *s, const sig_learn_config *cfg)
     top = (int32_t)cfg->t_base + ((int32_t)cfg->n_bins << cfg->bin_shift);
     if (top > INT16_MAX) return SIG_ERR_ARG;
     s->cfg = *cfg;
+    s->grid_span = (uint16_t)((uint16_t)cfg->n_bins << cfg->bin_shift);
+    s->bin_mask = (uint16_t)((1u << cfg->bin_shift) - 1u);
     for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) {
         s->k[a] = 0;
         s->h[a] = 0;
@@ -85,16 +87,19 @@ sig_status sig_learn_use_model(sig_learn *s, const sig_tmodel *m)
     return SIG_OK;
 }
 
-/* Add a still sample to its bin; SIG_LEARN_SKIPPED when it has none. */
+/* Add a still sample to its bin; SIG_LEARN_SKIPPED when it has none.
+ * 16-bit index arithmetic: the grid spans at most 16 * 2^10 units. */
 static sig_status learn_sample(sig_learn *s, int16_t t, const int16_t *raw)
 {
     int32_t d = (int32_t)t - (int32_t)s->cfg.t_base;
+    uint16_t d16;
     uint8_t a, b, n = s->cfg.n_axes;
-    if (d < 0 || d >= ((int32_t)s->cfg.n_bins << s->cfg.bin_shift)) return SIG_LEARN_SKIPPED;
+    if (d < 0 || d >= (int32_t)s->grid_span) return SIG_LEARN_SKIPPED;
     for (a = 0u; a < n; a++)
         if (raw[a] > SIG_LEARN_Y_MAX || raw[a] < -SIG_LEARN_Y_MAX) return SIG_LEARN_SKIPPED;
-    b = (uint8_t)((uint32_t)d >> s->cfg.bin_shift);
-    s->sum_dt[b] += (int32_t)((uint32_t)d & ((UINT32_C(1) << s->cfg.bin_shift) - 1u));
+    d16 = (uint16_t)d;
+    b = (uint8_t)(d16 >> s->cfg.bin_shift);
+    s->sum_dt[b] += (int32_t)(d16 & s->bin_mask);
     for (a = 0u; a < n; a++) s->sum_y[b][a] += raw[a];
     if (++s->count[b] >= SIG_LEARN_COUNT_MAX) {
         /* halve: the sums keep their width and old samples fade */
@@ -118,18 +123,20 @@ static int16_t clamp_y(int16_t r)
 static bool watch_residual(sig_learn *s, const int16_t *r, bool in_range)
 {
     uint8_t a, n = s->cfg.n_axes;
-    int32_t x, d, pos, neg;
+    int16_t x, d;
+    int32_t pos, neg;
     bool crossed = false;
     for (a = 0u; a < n; a++) {
         x = clamp_y(r[a]);
         if (s->have_prev) {
-            d = x - s->prev_r[a];
-            if (d < 0) d = -d;
-            s->noise[a] += d * 16 - (s->noise[a] >> 5);   /* noise >= 0 */
+            d = (int16_t)(x - s->prev_r[a]);          /* |d| <= 4094 */
+            if (d < 0) d = (int16_t)-d;
+            if (d > SIG_LEARN_Y_MAX) d = SIG_LEARN_Y_MAX;
+            s->noise[a] = (uint16_t)(s->noise[a] + (uint16_t)d - (uint16_t)(s->noise[a] >> 5));
         }
-        s->prev_r[a] = (int16_t)x;
+        s->prev_r[a] = x;
         if (!s->has_model || !in_range || s->h[a] == 0) continue;
-        x *= 16;
+        x = (int16_t)(x * 16);                       /* |16 x| <= 32752 */
         pos = s->cusum_pos[a] + x - s->k[a];
         neg = s->cusum_neg[a] - x - s->k[a];
         s->cusum_pos[a] = pos > 0 ? pos : 0;

@@ -8,18 +8,61 @@
 #define FRAC_BITS 12u      /* interpolation fraction, Q12 */
 #define ERR_MAX   INT32_C(4095)
 
-/* sign(n) * floor((|n| + d/2) / d), d > 0 */
+/* floor(num / den) for a quotient below 2^16 (num < den * 2^16, den >= 1):
+ * 16 steps of restoring long division.  Every division of the solve has
+ * such a quotient, and this costs a few hundred MSP430 instructions where
+ * a general 32-bit division routine costs ~1200.  The carry out of `low` is
+ * taken by a compare: clang turns a test of its top bit into a 15-bit shift,
+ * which the MSP430 does one bit at a time. */
+static uint16_t div_small(uint32_t num, uint32_t den)
+{
+    uint32_t rem = num >> 16;               /* < den */
+    uint16_t low = (uint16_t)(num & 0xFFFFu), q = 0u, twice;
+    uint8_t i;
+    for (i = 0u; i < 16u; i++) {
+        twice = (uint16_t)(low + low);
+        rem = rem + rem + (twice < low ? 1u : 0u);
+        low = twice;
+        q = (uint16_t)(q + q);
+        if (rem >= den) {
+            rem -= den;
+            q |= 1u;
+        }
+    }
+    return q;
+}
+
+/* div_small for a 16-bit divisor (bin counts <= 2048): the remainder stays
+ * below 2 * den <= 2^12, so it is carried in 16 bits. */
+static uint16_t div_small16(uint32_t num, uint16_t den)
+{
+    uint16_t rem = (uint16_t)(num >> 16), low = (uint16_t)(num & 0xFFFFu), q = 0u, twice;
+    uint8_t i;
+    for (i = 0u; i < 16u; i++) {
+        twice = (uint16_t)(low + low);
+        rem = (uint16_t)(rem + rem + (twice < low ? 1u : 0u));
+        low = twice;
+        q = (uint16_t)(q + q);
+        if (rem >= den) {
+            rem = (uint16_t)(rem - den);
+            q |= 1u;
+        }
+    }
+    return q;
+}
+
+/* sign(n) * floor((|n| + d/2) / d), 1 <= d <= 2048, |n| / d < 2^15 (bin means) */
 static int32_t rdiv(int32_t n, uint16_t d)
 {
     uint32_t mag = n < 0 ? (uint32_t)0 - (uint32_t)n : (uint32_t)n;
-    uint32_t q = (mag + (uint32_t)(d >> 1)) / d;
-    return n < 0 ? -(int32_t)q : (int32_t)q;
+    int32_t q = (int32_t)div_small16(mag + (uint32_t)(d >> 1), d);
+    return n < 0 ? -q : q;
 }
 
-/* Q12 position of x between a < b (all Q4 temperatures, b - a < 2^18) */
+/* Q12 position of x in [a, b] (a < b, Q4 temperatures, b - a < 2^18) */
 static int32_t frac_q12(int32_t a, int32_t b, int32_t x)
 {
-    return (int32_t)(((uint32_t)(x - a) << FRAC_BITS) / (uint32_t)(b - a));
+    return (int32_t)div_small((uint32_t)(x - a) * (UINT32_C(1) << FRAC_BITS), (uint32_t)(b - a));
 }
 
 static int32_t lerp(int32_t ya, int32_t yb, int32_t f)
@@ -41,9 +84,11 @@ static void model_q4(const sig_tmodel *m, int16_t t, int32_t *out, uint8_t n_axe
 
 static uint32_t sq_err(int32_t e)
 {
+    int16_t c;
     if (e > ERR_MAX) e = ERR_MAX;
     if (e < -ERR_MAX) e = -ERR_MAX;
-    return (uint32_t)(e * e);
+    c = (int16_t)e;
+    return (uint32_t)((int32_t)c * c);      /* a 16 x 16 product */
 }
 
 /* The temperature (image unit) of a Q4 position from t_base, rounded. */
@@ -71,8 +116,8 @@ static void refresh_thresholds(sig_learn *s)
     uint32_t sigma;
     if (s->noise_n < SIG_LEARN_NOISE_MIN_N) return;
     for (a = 0u; a < s->cfg.n_axes; a++) {
-        /* sigma = E|r - r_prev| * sqrt(pi) / 2 ~ (noise / 32) * 227 / 256 */
-        sigma = ((uint32_t)s->noise[a] * 227u) >> 13;
+        /* sigma (Q4) = 16 E|r - r_prev| sqrt(pi) / 2 ~ (N / 32) * 16 * 227 / 256 */
+        sigma = ((uint32_t)s->noise[a] * 227u) >> 9;
         if (sigma < s->cfg.sigma_floor) sigma = s->cfg.sigma_floor;
         s->k[a] = (int32_t)((sigma * s->cfg.k_sigma) >> 4);
         s->h[a] = (int32_t)((sigma * s->cfg.h_sigma) >> 4);
@@ -82,7 +127,7 @@ static void refresh_thresholds(sig_learn *s)
 /* Bins of the model's range inside the grid: false when they do not meet. */
 static bool model_bins(const sig_learn *s, uint8_t *lo, uint8_t *hi)
 {
-    int32_t top = (int32_t)s->cfg.n_bins << s->cfg.bin_shift;
+    int32_t top = (int32_t)s->grid_span;
     int32_t a = (int32_t)s->model_lo - s->cfg.t_base, b = (int32_t)s->model_hi - s->cfg.t_base;
     if (b < 0 || a >= top) return false;
     if (a < 0) a = 0;
@@ -103,11 +148,12 @@ static void make_points(const sig_learn *s, learn_points *p)
 {
     uint8_t b, a;
     uint16_t c;
+    int32_t lo = 0, step = (int32_t)s->bin_mask * 16 + 16;     /* 16 W */
     p->n = 0u;
-    for (b = 0u; b < s->cfg.n_bins; b++) {
+    for (b = 0u; b < s->cfg.n_bins; b++, lo += step) {
         c = s->count[b];
         if (c < s->cfg.min_count) continue;
-        p->t[p->n] = ((int32_t)b << (s->cfg.bin_shift + 4u)) + rdiv(s->sum_dt[b] * 16, c);
+        p->t[p->n] = lo + rdiv(s->sum_dt[b] * 16, c);
         for (a = 0u; a < s->cfg.n_axes; a++) p->y[p->n][a] = rdiv(s->sum_y[b][a] * 16, c);
         p->bin[p->n] = b;
         p->n++;
@@ -119,13 +165,13 @@ static void make_points(const sig_learn *s, learn_points *p)
  * limited to [-8192, 12288] (at most two spacings out). */
 static int32_t held_out_frac(int32_t a, int32_t b, int32_t x)
 {
-    int32_t f;
+    /* the limits are tested first so that every quotient is below 2^16 */
     if (x < a) {
-        f = -(int32_t)(((uint32_t)(a - x) << FRAC_BITS) / (uint32_t)(b - a));
-        return f < INT32_C(-8192) ? INT32_C(-8192) : f;
+        if (a - x >= 2 * (b - a)) return INT32_C(-8192);
+        return -frac_q12(x, x + (b - a), a);
     }
-    f = frac_q12(a, b, x);
-    return f > INT32_C(12288) ? INT32_C(12288) : f;
+    if (x - a >= 3 * (b - a)) return INT32_C(12288);
+    return frac_q12(a, b, x);
 }
 
 /* Leave-one-bin-out errors of the candidate and of the model in use: every
@@ -153,28 +199,34 @@ static uint8_t validate(const sig_learn *s, const sig_tmodel *m, const learn_poi
     return p->n;
 }
 
-/* Knot k's value per axis (Q4): see "table" in sig_learn.h.  *j walks the
- * points left to right as k grows. */
-static void knot_value(const sig_learn *s, const sig_tmodel *m, const learn_points *p,
-                       uint8_t k, uint8_t *j, int32_t *v)
+/* Knot values per axis (Q4) for knots k_lo.. at temperatures c (from
+ * t_base) W apart: see "table" in sig_learn.h.  The points are walked left
+ * to right as the knots advance; the model's values at the two end points
+ * are read once. */
+static void knot_values(const sig_learn *s, const sig_tmodel *m, const learn_points *p,
+                        uint8_t n_knots, int32_t c, int32_t (*v)[SIG_LEARN_MAX_AXES])
 {
-    int32_t w = INT32_C(1) << s->cfg.bin_shift;
-    int32_t c = (int32_t)k * w + (w >> 1);          /* knot temperature from t_base */
-    int32_t cq = c * 16, at_knot[SIG_LEARN_MAX_AXES], at_end[SIG_LEARN_MAX_AXES];
-    uint8_t a, e, n = s->cfg.n_axes;
-    int32_t f;
-    if (cq >= p->t[0] && cq <= p->t[p->n - 1u]) {
-        while (*j + 2u < p->n && p->t[*j + 1u] < cq) (*j)++;
-        f = frac_q12(p->t[*j], p->t[*j + 1u], cq);
-        for (a = 0u; a < n; a++) v[a] = lerp(p->y[*j][a], p->y[*j + 1u][a], f);
-        return;
+    int32_t w = (int32_t)s->bin_mask + 1, cq, f;
+    int32_t at_knot[SIG_LEARN_MAX_AXES], at_end[2][SIG_LEARN_MAX_AXES];
+    uint8_t a, e, i, j = 0u, n = s->cfg.n_axes, last = (uint8_t)(p->n - 1u);
+    if (m != NULL) {
+        model_q4(m, t_of_q4(s, p->t[0]), at_end[0], n);
+        model_q4(m, t_of_q4(s, p->t[last]), at_end[1], n);
     }
-    e = cq < p->t[0] ? 0u : (uint8_t)(p->n - 1u);
-    for (a = 0u; a < n; a++) v[a] = p->y[e][a];
-    if (m == NULL) return;
-    model_q4(m, (int16_t)(s->cfg.t_base + c), at_knot, n);
-    model_q4(m, t_of_q4(s, p->t[e]), at_end, n);
-    for (a = 0u; a < n; a++) v[a] += at_knot[a] - at_end[a];
+    for (i = 0u; i < n_knots; i++, c += w) {
+        cq = c * 16;
+        if (cq >= p->t[0] && cq <= p->t[last]) {
+            while (j + 2u < p->n && p->t[j + 1u] < cq) j++;
+            f = frac_q12(p->t[j], p->t[j + 1u], cq);
+            for (a = 0u; a < n; a++) v[i][a] = lerp(p->y[j][a], p->y[j + 1u][a], f);
+            continue;
+        }
+        e = cq < p->t[0] ? 0u : last;
+        for (a = 0u; a < n; a++) v[i][a] = p->y[e][a];
+        if (m == NULL) continue;
+        model_q4(m, (int16_t)(s->cfg.t_base + c), at_knot, n);
+        for (a = 0u; a < n; a++) v[i][a] += at_knot[a] - at_end[e == 0u ? 0 : 1][a];
+    }
 }
 
 /* The largest value_frac 0..4 at which the axis' largest |value| fits. */
@@ -197,14 +249,14 @@ static uint16_t write_image(const sig_learn *s, const sig_tmodel *m, const learn
                             uint8_t k_lo, uint8_t k_hi, uint32_t seq, uint8_t *img)
 {
     int32_t v[SIG_LEARN_MAX_BINS][SIG_LEARN_MAX_AXES], mx;
-    uint8_t n_knots = (uint8_t)(k_hi - k_lo + 1u), n = s->cfg.n_axes, a, i, j = 0u, vf;
+    uint8_t n_knots = (uint8_t)(k_hi - k_lo + 1u), n = s->cfg.n_axes, a, i, vf;
     uint16_t pay_len = (uint16_t)(SIG_PWL_IMAGE_FIXED_LEN + (uint16_t)n * (1u + 2u * (uint16_t)n_knots));
     uint16_t total = (uint16_t)(SIG_IMAGE_HEADER_LEN + SIG_IMAGE_SECTION_HDR_LEN + pay_len +
                                 SIG_IMAGE_SECTION_HDR_LEN + SIG_TEMP_CODE_LEN + SIG_IMAGE_CRC_LEN);
-    int32_t w = INT32_C(1) << s->cfg.bin_shift;
-    int16_t t_lo = (int16_t)(s->cfg.t_base + (int32_t)k_lo * w + (w >> 1));
+    int32_t w = (int32_t)s->bin_mask + 1, c = (int32_t)k_lo * w + (w >> 1);
+    int16_t t_lo = (int16_t)(s->cfg.t_base + c);
     uint8_t *q = img;
-    for (i = 0u; i < n_knots; i++) knot_value(s, m, p, (uint8_t)(k_lo + i), &j, v[i]);
+    knot_values(s, m, p, n_knots, c, v);
     *q++ = SIG_IMAGE_MAGIC0;
     *q++ = SIG_IMAGE_MAGIC1;
     *q++ = SIG_IMAGE_MAGIC2;

@@ -37,7 +37,7 @@ cdef extern from "sig_learn.h":
         uint16_t count[16]
         int32_t k[3]
         int32_t h[3]
-        int32_t noise[3]
+        uint16_t noise[3]
         uint32_t steps
         int16_t model_lo, model_hi
         bint has_model, committed, stale

@@ -4,10 +4,10 @@ sig_learn_solve.c, one sample at a time, in plain Python integers.
     step     still samples inside the bins (t_base, 2^bin_shift, n_bins) and
              within +-2047 add to count, sum_dt, sum_y of their bin; a bin at
              2048 samples is halved (floor).  The residual (model output, or
-             raw with no model) feeds noise += 16|r - r_prev| - (noise >> 5)
+             raw with no model) feeds noise += min(|r - r_prev|, 2047) - (noise >> 5)
              and, with a model in range and armed thresholds, the two-sided
              CUSUM on 16 r; a crossing clears the bins and sets stale.
-    solve    thresholds from noise (sigma = max(floor, noise*227 >> 13));
+    solve    thresholds from noise (sigma = max(floor, noise*227 >> 9));
              period; points (Q4 means) of covered bins; leave-one-bin-out
              SSE of the candidate and of the model in use; commit when
              sse_new <= sse_stored - (sse_stored >> margin_shift) and
@@ -102,7 +102,7 @@ class Learner:
         for a, ra in enumerate(r):
             x = _clamp(ra, -Y_MAX, Y_MAX)
             if self.have_prev:
-                self.noise[a] += abs(x - self.prev[a]) * 16 - (self.noise[a] >> 5)
+                self.noise[a] += min(abs(x - self.prev[a]), Y_MAX) - (self.noise[a] >> 5)
             self.prev[a] = x
             if self.model is None or not in_range or self.h[a] == 0:
                 continue
@@ -200,7 +200,7 @@ class Learner:
         c = self.cfg
         if self.noise_n >= NOISE_MIN_N:
             for a in range(c["n_axes"]):
-                sigma = max(c["sigma_floor"], (self.noise[a] * 227) >> 13)
+                sigma = max(c["sigma_floor"], (self.noise[a] * 227) >> 9)
                 self.k[a] = (sigma * c["k_sigma"]) >> 4
                 self.h[a] = (sigma * c["h_sigma"]) >> 4
         rep = dict(sse_new=0, sse_stored=0, covered=0, validated=0, n_knots=0, t_lo=0, t_hi=0)
