@@ -16,15 +16,19 @@
  *   bins         n_bins (3..16) uniform bins of width W = 2^bin_shift
  *                (bin_shift 1..10) from t_base: bin = (t - t_base) >> bin_shift,
  *                dt = (t - t_base) & (W - 1), 0 <= dt < 1024.
- *   sums         per bin: count (uint16), sum_dt (int32), sum_y[axis] (int32)
- *                of the raw still readings y, |y| <= SIG_LEARN_Y_MAX (2047;
- *                a larger reading is not learned: SIG_LEARN_SKIPPED).
- *   width        count <= SIG_LEARN_COUNT_MAX = 2048: |sum_y| <= 2^11 * 2047
- *                < 2^22, sum_dt < 2^11 * 2^10 = 2^21, and both times 16 (the
- *                Q4 means of the solve) stay below 2^27.  When a bin reaches
- *                2048 samples its count and sums are halved (floor, by
- *                sig_asr32): old samples fade, the sums never overflow,
- *                heating and cooling samples are summed alike.
+ *   sums         per bin: count (uint16), sum_dt (uint32), sum_y[axis]
+ *                (uint32) of y + 2048 for the raw still readings y, |y| <=
+ *                SIG_LEARN_Y_MAX (2047; a larger reading is not learned:
+ *                SIG_LEARN_SKIPPED).  Biased so that every term is unsigned:
+ *                the MSP430 widens a signed int16 with a 7-step shift, an
+ *                unsigned one for free; the solve takes 2048 * count off.
+ *   width        count <= SIG_LEARN_COUNT_MAX = 2048: sum_y <= 2^11 * 4095
+ *                < 2^23, sum_dt < 2^11 * 2^10 = 2^21, and the signed sum and
+ *                sum_dt times 16 (the Q4 means of the solve) stay below
+ *                2^27.  When a bin reaches 2048 samples its count and sums
+ *                are halved (floor; the signed sum is then floor-halved too,
+ *                as 2048 * count is even): old samples fade, the sums never
+ *                overflow, heating and cooling samples are summed alike.
  *   still residual  r = the stored model's output for the still sample
  *                (the caller computes it anyway: sig_tmodel_apply), in LSB.
  *   noise        per axis N += d - (N >> 5), uint16, over successive still
@@ -101,6 +105,7 @@
 #define SIG_LEARN_MIN_BINS   3u
 #define SIG_LEARN_COUNT_MAX  2048u
 #define SIG_LEARN_Y_MAX      2047
+#define SIG_LEARN_Y_BIAS     2048
 #define SIG_LEARN_MAX_SHIFT  10u
 #define SIG_LEARN_NOISE_MIN_N 32u
 /* bytes of the image sig_learn_solve writes at most (16 knots, 3 axes) */
@@ -129,8 +134,8 @@ typedef struct {
 
 typedef struct {
     sig_learn_config cfg;
-    int32_t sum_y[SIG_LEARN_MAX_BINS][SIG_LEARN_MAX_AXES];
-    int32_t sum_dt[SIG_LEARN_MAX_BINS];
+    uint32_t sum_y[SIG_LEARN_MAX_BINS][SIG_LEARN_MAX_AXES];  /* sum of (y + 2048) */
+    uint32_t sum_dt[SIG_LEARN_MAX_BINS];
     uint16_t count[SIG_LEARN_MAX_BINS];
     int32_t cusum_pos[SIG_LEARN_MAX_AXES], cusum_neg[SIG_LEARN_MAX_AXES];
     int32_t k[SIG_LEARN_MAX_AXES], h[SIG_LEARN_MAX_AXES];  /* Q4 LSB; h == 0: test not armed */

@@ -45,8 +45,8 @@ void sig_learn_reset(sig_learn *s)
     if (s == NULL) return;
     for (b = 0u; b < SIG_LEARN_MAX_BINS; b++) {
         s->count[b] = 0u;
-        s->sum_dt[b] = 0;
-        for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) s->sum_y[b][a] = 0;
+        s->sum_dt[b] = 0u;
+        for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) s->sum_y[b][a] = 0u;
     }
     for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) {
         s->cusum_pos[a] = 0;
@@ -91,21 +91,25 @@ sig_status sig_learn_use_model(sig_learn *s, const sig_tmodel *m)
  * 16-bit index arithmetic: the grid spans at most 16 * 2^10 units. */
 static sig_status learn_sample(sig_learn *s, int16_t t, const int16_t *raw)
 {
-    int32_t d = (int32_t)t - (int32_t)s->cfg.t_base;
+    uint32_t *sum_y;
     uint16_t d16;
     uint8_t a, b, n = s->cfg.n_axes;
-    if (d < 0 || d >= (int32_t)s->grid_span) return SIG_LEARN_SKIPPED;
+    /* 16-bit arithmetic only (the MSP430 widens a signed int16 to 32 bits
+     * with a 7-step shift): t >= t_base, so t - t_base is 0..65535 */
+    if (t < s->cfg.t_base) return SIG_LEARN_SKIPPED;
+    d16 = (uint16_t)((uint16_t)t - (uint16_t)s->cfg.t_base);
+    if (d16 >= s->grid_span) return SIG_LEARN_SKIPPED;
     for (a = 0u; a < n; a++)
         if (raw[a] > SIG_LEARN_Y_MAX || raw[a] < -SIG_LEARN_Y_MAX) return SIG_LEARN_SKIPPED;
-    d16 = (uint16_t)d;
     b = (uint8_t)(d16 >> s->cfg.bin_shift);
-    s->sum_dt[b] += (int32_t)(d16 & s->bin_mask);
-    for (a = 0u; a < n; a++) s->sum_y[b][a] += raw[a];
+    s->sum_dt[b] += (uint32_t)(d16 & s->bin_mask);
+    sum_y = s->sum_y[b];
+    for (a = 0u; a < n; a++) sum_y[a] += (uint16_t)(raw[a] + SIG_LEARN_Y_BIAS);
     if (++s->count[b] >= SIG_LEARN_COUNT_MAX) {
         /* halve: the sums keep their width and old samples fade */
         s->count[b] = (uint16_t)(SIG_LEARN_COUNT_MAX / 2u);
-        s->sum_dt[b] = sig_asr32(s->sum_dt[b], 1u);
-        for (a = 0u; a < n; a++) s->sum_y[b][a] = sig_asr32(s->sum_y[b][a], 1u);
+        s->sum_dt[b] >>= 1;
+        for (a = 0u; a < n; a++) sum_y[a] >>= 1;
     }
     return SIG_OK;
 }

@@ -153,8 +153,9 @@ static void make_points(const sig_learn *s, learn_points *p)
     for (b = 0u; b < s->cfg.n_bins; b++, lo += step) {
         c = s->count[b];
         if (c < s->cfg.min_count) continue;
-        p->t[p->n] = lo + rdiv(s->sum_dt[b] * 16, c);
-        for (a = 0u; a < s->cfg.n_axes; a++) p->y[p->n][a] = rdiv(s->sum_y[b][a] * 16, c);
+        p->t[p->n] = lo + rdiv((int32_t)s->sum_dt[b] * 16, c);
+        for (a = 0u; a < s->cfg.n_axes; a++)
+            p->y[p->n][a] = rdiv(((int32_t)s->sum_y[b][a] - (int32_t)c * SIG_LEARN_Y_BIAS) * 16, c);
         p->bin[p->n] = b;
         p->n++;
     }

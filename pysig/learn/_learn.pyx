@@ -32,8 +32,8 @@ cdef extern from "sig_learn.h":
         uint8_t bin_shift, n_bins, min_bins, margin_shift, n_axes, code_kind
     ctypedef struct sig_learn:
         sig_learn_config cfg
-        int32_t sum_y[16][3]
-        int32_t sum_dt[16]
+        uint32_t sum_y[16][3]
+        uint32_t sum_dt[16]
         uint16_t count[16]
         int32_t k[3]
         int32_t h[3]
