@@ -159,6 +159,22 @@ typedef struct {
     int16_t t_lo, t_hi;           /* its range */
 } sig_learn_report;
 
+/* Scratch of sig_learn_solve, caller-owned (CMSIS-style), needed only during
+ * the call: the 8051 has no room for it on its stack, and firmware may
+ * share it with other passing work.  Not part of the learner's state. */
+typedef struct {
+    int32_t t[SIG_LEARN_MAX_BINS];                          /* T_i, Q4 from t_base */
+    int16_t y[SIG_LEARN_MAX_BINS][SIG_LEARN_MAX_AXES];      /* Y_i, Q4 LSB (|Y| <= 32752) */
+    uint8_t bin[SIG_LEARN_MAX_BINS];
+    uint8_t n;
+} sig_learn_points;
+
+typedef struct {
+    sig_learn_points points;
+    int32_t knots[SIG_LEARN_MAX_BINS][SIG_LEARN_MAX_AXES];  /* knot values, Q4 */
+    int32_t model[3][SIG_LEARN_MAX_AXES];                   /* the model's values, Q4 */
+} sig_learn_scratch;
+
 /* Check the configuration and start empty, with no model in use.
  * SIG_ERR_ARG (state untouched) for NULL or a field outside its range. */
 sig_status sig_learn_init(sig_learn *s, const sig_learn_config *cfg);
@@ -187,12 +203,12 @@ sig_status sig_learn_step(sig_learn *s, int16_t t, const int16_t *raw, const int
  * enough).  Returns SIG_LEARN_COMMITTED with *image_len set when an image was
  * written, SIG_OK when not (report->outcome says why; too few samples is
  * SIG_LEARN_WAIT_COVERAGE, not an error); SIG_ERR_ARG (state untouched) for
- * NULL s, report, image_len or image, image_cap < SIG_LEARN_IMAGE_MAX, or
+ * NULL s, report, image_len, image or work, image_cap < SIG_LEARN_IMAGE_MAX, or
  * model NULL while one is in use (or given while none is) or with another
  * number of axes.  The CUSUM thresholds are refreshed on every call that
  * does not fail. */
 sig_status sig_learn_solve(sig_learn *s, const sig_tmodel *model, uint32_t live_seq,
                            uint8_t *image, uint16_t image_cap, uint16_t *image_len,
-                           sig_learn_report *report);
+                           sig_learn_report *report, sig_learn_scratch *work);
 
 #endif /* SIG_LEARN_H */

@@ -137,14 +137,7 @@ static bool model_bins(const sig_learn *s, uint8_t *lo, uint8_t *hi)
     return true;
 }
 
-typedef struct {
-    int32_t t[SIG_LEARN_MAX_BINS];                          /* T_i, Q4 from t_base */
-    int32_t y[SIG_LEARN_MAX_BINS][SIG_LEARN_MAX_AXES];      /* Y_i, Q4 LSB */
-    uint8_t bin[SIG_LEARN_MAX_BINS];
-    uint8_t n;
-} learn_points;
-
-static void make_points(const sig_learn *s, learn_points *p)
+static void make_points(const sig_learn *s, sig_learn_points *p)
 {
     uint8_t b, a;
     uint16_t c;
@@ -155,7 +148,7 @@ static void make_points(const sig_learn *s, learn_points *p)
         if (c < s->cfg.min_count) continue;
         p->t[p->n] = lo + rdiv((int32_t)s->sum_dt[b] * 16, c);
         for (a = 0u; a < s->cfg.n_axes; a++)
-            p->y[p->n][a] = rdiv(((int32_t)s->sum_y[b][a] - (int32_t)c * SIG_LEARN_Y_BIAS) * 16, c);
+            p->y[p->n][a] = (int16_t)rdiv(((int32_t)s->sum_y[b][a] - (int32_t)c * SIG_LEARN_Y_BIAS) * 16, c);
         p->bin[p->n] = b;
         p->n++;
     }
@@ -179,14 +172,16 @@ static int32_t held_out_frac(int32_t a, int32_t b, int32_t x)
  * covered bin is predicted from its two nearest covered neighbours (the end
  * bins by extrapolation from the two next to them, so a candidate that
  * reaches beyond the model's range is judged there too). */
-static uint8_t validate(const sig_learn *s, const sig_tmodel *m, const learn_points *p,
+static uint8_t validate(const sig_learn *s, const sig_tmodel *m, sig_learn_scratch *work,
                         uint32_t *sse_new, uint32_t *sse_stored)
 {
-    int32_t ref[SIG_LEARN_MAX_AXES] = {0, 0, 0};
+    const sig_learn_points *p = &work->points;
+    int32_t *ref = work->model[2];
     int32_t f;
     uint8_t i, j, l, a;
     *sse_new = 0u;
     *sse_stored = 0u;
+    for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) ref[a] = 0;   /* no model: it predicts 0 */
     for (i = 0u; i < p->n; i++) {
         j = i == 0u ? 1u : (i + 1u == p->n ? (uint8_t)(i - 2u) : (uint8_t)(i - 1u));
         l = (uint8_t)(j == i + 1u ? i + 2u : (i + 1u == p->n ? i - 1u : i + 1u));
@@ -200,21 +195,22 @@ static uint8_t validate(const sig_learn *s, const sig_tmodel *m, const learn_poi
     return p->n;
 }
 
-/* Knot values per axis (Q4) for knots k_lo.. at temperatures c (from
- * t_base) W apart: see "table" in sig_learn.h.  The points are walked left
- * to right as the knots advance; the model's values at the two end points
- * are read once. */
-static void knot_values(const sig_learn *s, const sig_tmodel *m, const learn_points *p,
-                        uint8_t n_knots, int32_t c, int32_t (*v)[SIG_LEARN_MAX_AXES])
+/* Knot values per axis (Q4) into work->knots for knots k_lo..k_hi, W
+ * apart: see "table" in sig_learn.h.  The points are walked left to right
+ * as the knots advance; the model's values at the two end points are read
+ * once.  Model values go through work->model (the 8051's stack is small). */
+static void knot_values(const sig_learn *s, const sig_tmodel *m, sig_learn_scratch *work,
+                        uint8_t k_lo, uint8_t k_hi)
 {
-    int32_t w = (int32_t)s->bin_mask + 1, cq, f;
-    int32_t at_knot[SIG_LEARN_MAX_AXES], at_end[2][SIG_LEARN_MAX_AXES];
+    const sig_learn_points *p = &work->points;
+    int32_t w = (int32_t)s->bin_mask + 1, c = (int32_t)k_lo * w + (w >> 1), cq, f;
+    int32_t (*v)[SIG_LEARN_MAX_AXES] = work->knots;
     uint8_t a, e, i, j = 0u, n = s->cfg.n_axes, last = (uint8_t)(p->n - 1u);
     if (m != NULL) {
-        model_q4(m, t_of_q4(s, p->t[0]), at_end[0], n);
-        model_q4(m, t_of_q4(s, p->t[last]), at_end[1], n);
+        model_q4(m, t_of_q4(s, p->t[0]), work->model[0], n);
+        model_q4(m, t_of_q4(s, p->t[last]), work->model[1], n);
     }
-    for (i = 0u; i < n_knots; i++, c += w) {
+    for (i = 0u; i <= (uint8_t)(k_hi - k_lo); i++, c += w) {
         cq = c * 16;
         if (cq >= p->t[0] && cq <= p->t[last]) {
             while (j + 2u < p->n && p->t[j + 1u] < cq) j++;
@@ -225,8 +221,8 @@ static void knot_values(const sig_learn *s, const sig_tmodel *m, const learn_poi
         e = cq < p->t[0] ? 0u : last;
         for (a = 0u; a < n; a++) v[i][a] = p->y[e][a];
         if (m == NULL) continue;
-        model_q4(m, (int16_t)(s->cfg.t_base + c), at_knot, n);
-        for (a = 0u; a < n; a++) v[i][a] += at_knot[a] - at_end[e == 0u ? 0 : 1][a];
+        model_q4(m, (int16_t)(s->cfg.t_base + c), work->model[2], n);
+        for (a = 0u; a < n; a++) v[i][a] += work->model[2][a] - work->model[e == 0u ? 0 : 1][a];
     }
 }
 
@@ -246,10 +242,11 @@ static int16_t entry_of(int32_t v, uint8_t vf)
 }
 
 /* Write the image of the table over bins k_lo..k_hi; returns its length. */
-static uint16_t write_image(const sig_learn *s, const sig_tmodel *m, const learn_points *p,
+static uint16_t write_image(const sig_learn *s, const sig_learn_scratch *work,
                             uint8_t k_lo, uint8_t k_hi, uint32_t seq, uint8_t *img)
 {
-    int32_t v[SIG_LEARN_MAX_BINS][SIG_LEARN_MAX_AXES], mx;
+    const int32_t (*v)[SIG_LEARN_MAX_AXES] = work->knots;
+    int32_t mx;
     uint8_t n_knots = (uint8_t)(k_hi - k_lo + 1u), n = s->cfg.n_axes, a, i, vf;
     uint16_t pay_len = (uint16_t)(SIG_PWL_IMAGE_FIXED_LEN + (uint16_t)n * (1u + 2u * (uint16_t)n_knots));
     uint16_t total = (uint16_t)(SIG_IMAGE_HEADER_LEN + SIG_IMAGE_SECTION_HDR_LEN + pay_len +
@@ -257,7 +254,6 @@ static uint16_t write_image(const sig_learn *s, const sig_tmodel *m, const learn
     int32_t w = (int32_t)s->bin_mask + 1, c = (int32_t)k_lo * w + (w >> 1);
     int16_t t_lo = (int16_t)(s->cfg.t_base + c);
     uint8_t *q = img;
-    knot_values(s, m, p, n_knots, c, v);
     *q++ = SIG_IMAGE_MAGIC0;
     *q++ = SIG_IMAGE_MAGIC1;
     *q++ = SIG_IMAGE_MAGIC2;
@@ -293,11 +289,13 @@ static uint16_t write_image(const sig_learn *s, const sig_tmodel *m, const learn
 
 sig_status sig_learn_solve(sig_learn *s, const sig_tmodel *model, uint32_t live_seq,
                            uint8_t *image, uint16_t image_cap, uint16_t *image_len,
-                           sig_learn_report *report)
+                           sig_learn_report *report, sig_learn_scratch *work)
 {
-    learn_points p;
+    sig_learn_points *p;
     uint8_t k_lo, k_hi, m_lo = 0u, m_hi = 0u;
-    if (s == NULL || report == NULL || image == NULL || image_len == NULL) return SIG_ERR_ARG;
+    if (s == NULL || report == NULL || image == NULL || image_len == NULL || work == NULL)
+        return SIG_ERR_ARG;
+    p = &work->points;
     if (image_cap < SIG_LEARN_IMAGE_MAX || s->has_model != (model != NULL)) return SIG_ERR_ARG;
     if (model != NULL && model->n_axes != s->cfg.n_axes) return SIG_ERR_ARG;
     refresh_thresholds(s);
@@ -312,25 +310,26 @@ sig_status sig_learn_solve(sig_learn *s, const sig_tmodel *model, uint32_t live_
         report->outcome = SIG_LEARN_WAIT_PERIOD;
         return SIG_OK;
     }
-    make_points(s, &p);
-    report->covered = p.n;
-    if (p.n < s->cfg.min_bins) {
+    make_points(s, p);
+    report->covered = p->n;
+    if (p->n < s->cfg.min_bins) {
         report->outcome = SIG_LEARN_WAIT_COVERAGE;
         return SIG_OK;
     }
-    report->validated = validate(s, model, &p, &report->sse_new, &report->sse_stored);
+    report->validated = validate(s, model, work, &report->sse_new, &report->sse_stored);
     if (report->sse_stored == 0u ||
         report->sse_new > report->sse_stored - (report->sse_stored >> s->cfg.margin_shift)) {
         report->outcome = SIG_LEARN_NOT_BETTER;
         return SIG_OK;
     }
-    k_lo = p.bin[0];
-    k_hi = p.bin[p.n - 1u];
+    k_lo = p->bin[0];
+    k_hi = p->bin[p->n - 1u];
     if (model != NULL && model_bins(s, &m_lo, &m_hi)) {
         if (m_lo < k_lo) k_lo = m_lo;
         if (m_hi > k_hi) k_hi = m_hi;
     }
-    *image_len = write_image(s, model, &p, k_lo, k_hi, live_seq + 1u, image);
+    knot_values(s, model, work, k_lo, k_hi);     /* not nested in write_image: stack depth */
+    *image_len = write_image(s, work, k_lo, k_hi, live_seq + 1u, image);
     s->committed = true;
     s->last_commit = s->steps;
     report->outcome = SIG_LEARN_COMMIT;

@@ -41,6 +41,8 @@ cdef extern from "sig_learn.h":
         uint32_t steps
         int16_t model_lo, model_hi
         bint has_model, committed, stale
+    ctypedef struct sig_learn_scratch:
+        pass
     ctypedef struct sig_learn_report:
         uint32_t sse_new, sse_stored
         uint8_t outcome, covered, validated, n_knots
@@ -51,7 +53,7 @@ cdef extern from "sig_learn.h":
                               bint still) nogil
     sig_status sig_learn_solve(sig_learn *s, const sig_tmodel *model, uint32_t live_seq,
                                uint8_t *image, uint16_t image_cap, uint16_t *image_len,
-                               sig_learn_report *report) nogil
+                               sig_learn_report *report, sig_learn_scratch *work) nogil
 
 CONFIG_FIELDS = ("period", "t_base", "min_count", "sigma_floor", "k_sigma", "h_sigma",
                  "bin_shift", "n_bins", "min_bins", "margin_shift", "n_axes", "code_kind")
@@ -70,6 +72,7 @@ cdef class DeviceLearner:
     as the firmware holds them.  cfg: a dict of the sig_learn_config fields."""
     cdef sig_learn s
     cdef sig_tmodel model
+    cdef sig_learn_scratch work
     cdef bint has_model
     cdef uint32_t live_seq
     cdef int16_t storage[765]
@@ -133,7 +136,7 @@ cdef class DeviceLearner:
         cdef uint16_t n = 0
         cdef sig_learn_report rep
         st = sig_learn_solve(&self.s, &self.model if self.has_model else NULL, self.live_seq,
-                             buf, 160, &n, &rep)
+                             buf, 160, &n, &rep, &self.work)
         if st < 0:
             return st, None, None
         return st, (bytes(buf[:n]) if n else None), _report(&rep)
@@ -195,7 +198,7 @@ cdef class DeviceLearner:
                 continue
             img_len = 0
             st = sig_learn_solve(&self.s, &self.model if self.has_model else NULL, self.live_seq,
-                                 buf, 160, &img_len, &rep)
+                                 buf, 160, &img_len, &rep, &self.work)
             solves.append((i, _report(&rep)))
             if st > 0 and img_len:
                 data = bytes(buf[:img_len])

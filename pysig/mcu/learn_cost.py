@@ -81,7 +81,7 @@ def learn_row(target: str) -> dict:
         if target == "msp430":
             fw = runner.build_msp430(SOURCES, HARNESS, [], include_dirs=[tmp])
         else:
-            fw = runner.build_mcs51(SOURCES, HARNESS, [], include_dirs=[tmp])
+            fw = runner.build_mcs51(SOURCES, HARNESS, [], include_dirs=[tmp], extra_flags=["--stack-auto"])
         n = t.size
         m = runner.measure(fw, funcs=["sig_learn_solve"], regions=["bench_start:bench_stop"],
                            reads={"vec_status": 2 * n, "init_status": 2, "solve_status": 2,

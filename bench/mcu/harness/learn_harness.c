@@ -17,6 +17,7 @@ sig_status vec_status[LV_N];
 uint8_t out_image[SIG_LEARN_IMAGE_MAX];
 uint16_t out_len;
 sig_learn_report report;
+sig_learn_scratch work;   /* xdata on the 8051: the solve's scratch */
 sig_learn learner;
 sig_tmodel model;
 int16_t storage[LV_STORAGE];
@@ -32,7 +33,7 @@ int main(void)
     for (i = 0; i < LV_N; i++)
         vec_status[i] = sig_learn_step(&learner, lv_t[i], lv_raw[i], lv_resid[i], lv_still[i] != 0u);
     bench_stop();
-    solve_status = sig_learn_solve(&learner, &model, LV_SEQ, out_image, SIG_LEARN_IMAGE_MAX, &out_len, &report);
+    solve_status = sig_learn_solve(&learner, &model, LV_SEQ, out_image, SIG_LEARN_IMAGE_MAX, &out_len, &report, &work);
     bench_done();
     return 0;
 }
