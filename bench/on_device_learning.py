@@ -17,7 +17,7 @@ Per case:
   C  the same model, 6-sigma offset step at day 2 of a 5-day log: hours
      from the step to the stale flag, goal <= 2 h.
 Plus RAM (sizeof(sig_learn)) and code size of csrc/learn on the MSP430
-(clang 14, -Os) and the 8051 (sdcc, --model-large).
+(clang 14, -Os) and the 8051 (sdcc, --model-large); cycles from lab.mcu.learn_cost.
 
     python bench/on_device_learning.py --json bench/results/on_device_learning.json --plot bench/results
 """
@@ -32,9 +32,9 @@ import numpy as np
 
 from pysig.io import write_json
 from pysig.learn import LearnConfig, replay
-from pysig.sim import field_log as F
-from pysig.tcomp import tmodel
-from pysig.tcomp.tempcode import CELSIUS, TempCode
+from lab.studies import field_log as F
+from pysig import tcomp as tmodel
+from pysig.tcomp import CELSIUS, TempCode
 
 ROOT = Path(__file__).resolve().parent.parent
 DATA = Path(os.environ.get("PYSIG_SHARED_DATA", ROOT.parent / "shared" / "data"))
@@ -189,7 +189,7 @@ def main(argv=None):
               f"  false stale {row.get('false_stale_30d')}  delay {row.get('detect_delay_h')} h")
     sizes = mcu_sizes()
     print(sizes)
-    from pysig.mcu.learn_cost import learn_row
+    from lab.mcu.learn_cost import learn_row
     cycles = {}
     for target in ("msp430", "mcs51"):
         try:

@@ -8,7 +8,7 @@ import subprocess
 import pytest
 
 from conftest import CSRC_INCLUDE, require_tool
-from pysig.mcu.runner import csrc_sources
+from lab.mcu.runner import csrc_sources
 
 PROGRAM = r"""
 #include <stdio.h>
@@ -160,6 +160,7 @@ int main(void)
         pf.zero_band = (next() & 1u) ? SIG_REAL(300.0) : SIG_REAL(0.0);
         pf.zero_rate = SIG_REAL(1.5);
         pf.noise_auto = round % 5 == 4;            /* thresholds from the measured noise */
+        if (pf.noise_auto) pf.seed_first = true;    /* the measured noise needs seed_first (sig_chain.h) */
         for (i = 0; i < N; i++) {                  /* steps, noise, glitches, non-finite, huge */
             uint32_t r = next() % 1000u;
             if (r < 4u) level = (sig_real)(next() % 5u) * SIG_REAL(10000.0);

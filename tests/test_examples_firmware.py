@@ -1,13 +1,20 @@
 """The example firmware of examples/firmware/ (MSP430F5510 with clang, 8051
-with sdcc) builds warning-free, both through pysig.mcu.runner and through
+with sdcc) builds warning-free, both through lab.mcu.runner and through
 its own Makefile (the recipe a user copies), runs in the simulators
 (mspdebug sim, s51), and leaves in its globals exactly what pysig computes
 on the host from the same calibration: the slot the A/B loader picks (the
 newer one; the older one when the newer was cut off half-written), the
 compensated readings and their status (one beyond the calibrated range:
 clamped and flagged), and the weighing chain's fixed-point outputs, stable
-flags and statuses on raw HX711 codes with a read glitch and a step."""
+flags and statuses on raw HX711 codes with a read glitch and a step.
+
+The 8051 firmware runs with its timer interrupt firing every 256 machine
+cycles (the results must still be exact), its internal stack is measured in
+s51 (the deepest point of the demo plus what the interrupt handler puts on
+it must leave at least ISR_HEADROOM bytes free), its pdata stack too, and
+its image holds no float code."""
 import json
+import re
 import subprocess
 import sys
 
@@ -16,16 +23,18 @@ import pytest
 
 from conftest import ROOT, require_shared_data, require_tool
 
-from pysig.mcu import runner
+from lab.mcu import runner
 from pysig.status import Status, Warn
-from pysig.tcomp._tcomp import image_select_slot
+from pysig.store._image_c import image_select_slot
 from pysig.tcomp._tcomp16 import Tcomp16Q
-from pysig.weigh.chain import Chain
+from pysig.weigh import Chain
 
 FIRMWARE = ROOT / "examples" / "firmware"
 COMMON = FIRMWARE / "common"
 TARGETS = {"msp430": FIRMWARE / "msp430f5510", "mcs51": FIRMWARE / "mcs51"}
-MCS51_FLAGS = ["--stack-auto"]          # as the Makefile: the chain's call depth needs it
+MCS51_FLAGS = ["--stack-auto"]          # the chain's call depth needs it (the Makefile adds --xstack)
+ISR_HEADROOM = 48       # bytes of the 8051's internal RAM left free with the handler at the deepest point
+FLOAT_LIBRARY = re.compile(r"^\s*C:\s+[0-9A-F]+\s+\S+\s+_(fs\w+|\w+2fs|fs2\w+)\s*$", re.M)
 
 
 def tools(target):
@@ -130,3 +139,24 @@ def test_makefile_recipe_builds_and_runs(target, calibration, tmp_path):
     img = runner.image_from_file(image, hwmult=target == "msp430")
     raw = runner.run_until(img, "results_ready", reads(cal))
     check(decode(raw, cal), host(cal), variant)
+    if target == "mcs51":
+        memory_budget(img, image)
+
+
+def memory_budget(img, image):
+    """The 8051 firmware's stacks and code, printed (the README's figures)."""
+    stack = runner.mcs51_stack_peak(img, isr="timer0_isr")
+    ticks = int.from_bytes(runner.run_until(img, "results_ready", {"node_ticks": 4})["node_ticks"],
+                           "little")
+    code = int(re.search(r"^CSEG\s+\S+\s+\S+\s+=\s+(\d+)\. bytes", image.with_suffix(".map").read_text(),
+                         re.M).group(1))
+    print(f"\n8051 example: internal stack from {stack['start_sp']:#04x}, peak {stack['peak']:#04x} "
+          f"({stack['headroom']} B free), interrupt handler {stack['isr_bytes']} B -> "
+          f"{stack['worst_case_headroom']} B free at worst; pdata stack peak "
+          f"{stack['xstack_peak']:#04x} ({stack['xstack_headroom']} B free); {ticks} interrupts "
+          f"during the demo; code {code} B")
+    assert ticks > 100                                  # the handler ran throughout the demo
+    assert stack["worst_case_headroom"] >= ISR_HEADROOM, stack
+    assert stack["xstack_headroom"] >= ISR_HEADROOM, stack
+    floats = FLOAT_LIBRARY.findall(image.with_suffix(".map").read_text())
+    assert not floats, f"float code in the fixed-only firmware: {sorted(set(floats))}"

@@ -9,10 +9,10 @@ from hypothesis import given, settings, strategies as st
 
 from pysig.learn import DeviceLearner, LearnConfig, replay
 from pysig.learn._learn import OUTCOMES
-from pysig.reference import learn as R
-from pysig.reference import tmodel as RT
+from spec import learn as R
+from spec import tmodel as RT
 from pysig.status import Status, Warn
-from pysig.tcomp import tmodel
+from pysig import tcomp
 
 
 def _log(seed, n, n_axes, t_lo, t_hi, noise, shift_at=None, shift=0):
@@ -94,7 +94,7 @@ def test_commit_is_an_image_the_loaders_and_apply_read():
     assert [c["sequence"] for c in r.commits] == list(range(1, len(r.commits) + 1))
     st_, model = RT.load(r.image)
     assert st_ == 0 and model[0] == "table"
-    cols, clamped = tmodel.apply_image(r.image, t / 100.0, [x[:, a] for a in range(3)],
+    cols, clamped = tcomp.apply_image(r.image, t / 100.0, [x[:, a] for a in range(3)],
                                        tmodel_tempcode())
     # the model undoes the drift where it was learned: corrected still readings are near 0
     inside = ~clamped
@@ -103,8 +103,7 @@ def test_commit_is_an_image_the_loaders_and_apply_read():
 
 
 def tmodel_tempcode():
-    from pysig.tcomp.tempcode import CELSIUS
-    return CELSIUS
+    return tcomp.CELSIUS
 
 
 def test_stale_after_offset_shift_then_relearned():

@@ -6,7 +6,7 @@ from scipy import stats
 
 from pysig.errors import RangeError
 from pysig.io import read_csv
-from pysig.sim.loadcell import ADC_MAX, ADC_MIN, LoadCellParams, simulate, write_run
+from pysig.sim._loadcell import ADC_MAX, ADC_MIN, LoadCellParams, simulate, write_run
 
 STEPS = ((0.0, 0.0), (10.0, 30.0), (40.0, 0.0))
 
@@ -185,3 +185,21 @@ def test_cli_simulate_bad_options(tmp_path, capsys):
     assert "t:kg pairs" in capsys.readouterr().err
     assert main(["simulate", str(out), "--rate-hz", "0"]) == RangeError.exit_status
     assert not out.exists()
+
+
+def test_pours_and_bumps_shape_the_load_and_the_force():
+    """A pour changes the applied load at a constant rate and stays; a bump
+    is a force that comes and goes (force_kg, not ref_kg); the creep each
+    step settles to is in force_kg; a bad event is refused by name."""
+    p = LoadCellParams(duration_s=20.0, load_steps=((0.0, 0.0), (2.0, 4.0)), creep_frac=0.01,
+                       pours=((5.0, 2.0, 1.0),), bumps=((10.0, 0.5, 3.0),))
+    run = simulate(p, seed=1)
+    t, ref, force = run["t"], run["ref_kg"], run["force_kg"]
+    ramp = (t > 5.0) & (t < 7.0)
+    np.testing.assert_allclose(ref[ramp], 4.0 + (t[ramp] - 5.0) / 2.0)
+    assert np.all(ref[t >= 7.0] == 5.0)
+    bump = (t > 10.0) & (t < 10.5)
+    assert np.all(force[bump] > ref[bump] + 0.04) and np.max(force[bump] - ref[bump]) <= 3.0 + 0.04 + 1e-12
+    np.testing.assert_allclose(force[t >= 11.0] - ref[t >= 11.0], 0.04)       # 1 % creep of the 4 kg step
+    with pytest.raises(RangeError, match=r"pours\[0\]"):
+        LoadCellParams(pours=((1.0, 0.0, 1.0),))

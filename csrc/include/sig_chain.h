@@ -11,7 +11,7 @@
  *    is emptied so Dc follows the new level at once.
  *  - motion-aware settling (motion_band > 0; the host presets derive it from
  *    the reading variance R as 4 sigma of the window mean, 4 * sqrt(R / (N - 2)),
- *    and A0 as 6 * sqrt(R): pysig/reference/chain.py): when |m - x| > motion_band for
+ *    and A0 as 6 * sqrt(R): tests/spec/chain.py): when |m - x| > motion_band for
  *    motion_count successive samples, or on a lock-out re-seed, the load
  *    moved: the window is emptied (refilled from the current sample) and the
  *    Kalman P is set back to P0, so the filter restarts as a running mean of
@@ -43,6 +43,45 @@
  *    is re-seeded on it): a slow final approach of the load is forgotten
  *    with the window instead of being averaged in.  No sensor constant:
  *    the float form is scale invariant (input * c -> output * c).
+ *    Ramps (a pour is a load change, not a glitch): when the limit rejects
+ *    a second sample on one side and it lies further out than the first by
+ *    more than A0/2 (and the two steps out, Dc to the first and the first to
+ *    the second, within a factor 4 of each other), both moved on: it is taken (status
+ *    SIG_LIMIT_RESEEDED | SIG_CHAIN_RAMP) and the load is followed as a
+ *    ramp - each sample within A0 of last + slope is the output (the window
+ *    holds it alone; SIG_CHAIN_RAMP), the slope moving half way to each new
+ *    difference.  A
+ *    sample within A0/2 of the last followed one and nearer it than the
+ *    prediction is followed with the slope kept; the second in a row ends the
+ *    ramp (the load stopped; a restart, SIG_CHAIN_MOTION).
+ *    A rejected sample back within A0 of where the ramp began ends it and is
+ *    taken (a glitch pair or a bump that came back, SIG_LIMIT_RESEEDED);
+ *    rejected before any sample was followed, nearer that level than the
+ *    prediction and no farther from it than the ramp's last value, the start
+ *    was a glitch pair:
+ *    the level before it is held and the window restarts from it
+ *    (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED); otherwise the last followed
+ *    value is held, the ramp predicted two
+ *    slopes on (one glitch in a pour), and a second rejection in a row ends
+ *    it.  Single glitches and pairs at one level stay rejected.
+ *    Stable only when the output is backed by the samples: the stability
+ *    detector's verdict is reported only on a sample that was not replaced,
+ *    held, re-seeded, a motion restart or a ramp sample, with a full window
+ *    since the last restart, no motion run under way, no drift (the output
+ *    moved by at most sigma over the last block of `window` samples, blocks
+ *    counted from the first full window after a restart: a load still
+ *    creeping or swinging out), the sample within
+ *    3 sigma of the output (near_band) and the window's trimmed mean within
+ *    1 sigma of it (a load that has begun to move faster than the output
+ *    follows).
+ *
+ * Start of the Kalman estimate: seed_first takes the first window mean;
+ * without it the estimate starts from x0 and the parameters must trust the
+ * first samples, P0 >= R (the first gain >= 1/2; a constant input is then
+ * within |x0 - input| / (n + 1) after n samples).  noise_auto re-seeds on
+ * the window mean while settling and needs seed_first (with it off the
+ * filter would restart from x0 every sample and never reach the input).
+ * _init refuses other combinations with SIG_ERR_ARG.
  *
  * Status: negative = error, nothing changed; otherwise OR of
  * SIG_WARN_CLAMPED, SIG_WARN_REJECTED (limit replaced the sample, or a
@@ -65,7 +104,8 @@
  * skips (restart, re-seed, hold-off, a motion run, an impulse) and down by
  * one on each other sample (between 0 and twice this); from this value on
  * the estimator sees every sample, with its warm-up steps again: so much
- * motion is noise, and a lasting rise in noise cannot freeze the estimate. */
+ * motion is noise, and a lasting rise in noise cannot freeze the estimate.
+ * A ramp sample (a pour) is skipped and leaves the count as it is. */
 #define SIG_CHAIN_NOISE_FROZEN_MAX 64u
 
 typedef struct {
@@ -121,6 +161,17 @@ typedef struct {
     bool noise_auto;
     sig_chain_gate gate;
     sig_noise_f noise;
+    /* noise_auto: the ramp follower and the backing of `stable` (above) */
+    sig_real slope, last, origin;   /* per-sample slope, last followed value, Dc before the ramp */
+    sig_real pred;          /* the ramp's prediction for this sample */
+    sig_real prev_x;        /* last finite sample */
+    sig_real near_band;     /* 3 sigma */
+    bool ramp, missed, paused;   /* following a ramp; its last sample held; it looked stopped */
+    bool followed;          /* a sample followed since the ramp began */
+    bool settled;           /* the stability detector's own verdict */
+    sig_real anchor;        /* the output at the last block's start */
+    uint8_t drift_age;      /* samples into the block */
+    bool drifting;          /* the last block moved the output by more than sigma */
 } sig_chain_f;
 
 typedef struct {
@@ -136,6 +187,13 @@ typedef struct {
     bool noise_auto;
     sig_chain_gate gate;
     sig_noise_q noise;
+    int32_t slope, last, origin, prev_x;   /* codes (|slope| <= 2^25) */
+    int32_t pred;           /* codes */
+    int32_t near_band;      /* Q24.7 */
+    bool ramp, missed, paused, followed, settled;
+    int32_t anchor;         /* Q24.7 */
+    uint8_t drift_age;
+    bool drifting;
 } sig_chain_q;
 
 /* The weighing paper's parameters in kg: Q 1e-7, R 0.05, x0 1, P0 10, N 12, A0 2 kg

@@ -3,8 +3,9 @@
  * results bit for bit.  For hosts and for firmware that filters a block of
  * samples at once (the float form keeps the chain's hot state in registers
  * in its steady state).  A separate module: a firmware that steps one sample
- * at a time links none of it (sdcc --stack-auto on the 8051 would need more
- * than its 256-byte stack for the fast path's frame). */
+ * at a time links none of it.  Not for the 8051: sdcc --stack-auto would need
+ * more than its 256-byte internal RAM for the fast path's frame, so
+ * sig_chain_batch.c stops an sdcc build with #error. */
 #ifndef SIG_CHAIN_BATCH_H
 #define SIG_CHAIN_BATCH_H
 

@@ -50,10 +50,14 @@ sig_status sig_limit_init_f(sig_limit_f *s, sig_real a0, uint8_t lockout_n);
 sig_status sig_limit_reset_f(sig_limit_f *s);
 sig_status sig_limit_set_ref_f(sig_limit_f *s, sig_real dc);
 sig_status sig_limit_step_f(sig_limit_f *s, sig_real x, sig_real *out);
+/* x becomes Dc and the rejection run ends: the caller saw a load change in
+ * the run (the chain's ramp test) */
+sig_status sig_limit_accept_f(sig_limit_f *s, sig_real x);
 
 sig_status sig_limit_init_q(sig_limit_q *s, int32_t a0, uint8_t lockout_n);
 sig_status sig_limit_reset_q(sig_limit_q *s);
 sig_status sig_limit_set_ref_q(sig_limit_q *s, int32_t dc);
 sig_status sig_limit_step_q(sig_limit_q *s, int32_t x, int32_t *out);
+sig_status sig_limit_accept_q(sig_limit_q *s, int32_t x);
 
 #endif /* SIG_LIMIT_H */

@@ -26,13 +26,28 @@
  * defines SIG_REAL_DOUBLE so numpy float64 arrays pass through unconverted. */
 #ifdef SIG_REAL_DOUBLE
 typedef double sig_real;
+typedef uint64_t sig_real_bits;     /* IEEE binary64: sign, 11 exponent bits, 52 fraction */
 #define SIG_REAL(x) (x)
+#define SIG_REAL_EXP_BITS UINT64_C(0x7FF0000000000000)
+#define SIG_REAL_SIGN_BIT UINT64_C(0x8000000000000000)
 #else
 typedef float sig_real;
+typedef uint32_t sig_real_bits;     /* IEEE binary32: sign, 8 exponent bits, 23 fraction */
 #define SIG_REAL(x) (x##f)
+#define SIG_REAL_EXP_BITS UINT32_C(0x7F800000)
+#define SIG_REAL_SIGN_BIT UINT32_C(0x80000000)
 #endif
+/* Refuses to compile where sig_real is not the width of its bits (sdcc's
+ * double is a float: build SIG_REAL_DOUBLE on the host only). */
+typedef char sig_real_bits_match[sizeof(sig_real) == sizeof(sig_real_bits) ? 1 : -1];
 
 #define SIG_Q16_ONE INT32_C(65536)
+
+/* SIG_NO_FLOAT: a fixed-only build.  The `_f` functions and the sig_real
+ * helpers are left out of every module, so a firmware that uses only the
+ * `_q` forms carries no float code (sdcc links whole modules: a fixed-only
+ * 8051 firmware would otherwise hold ~20 KB of float code it never calls,
+ * and the float library with it).  The structs and prototypes stay. */
 
 /* The length of a run of successive samples that share a property (within
  * the step, outside the band, rejected on one side) after one more sample:
@@ -60,10 +75,14 @@ int32_t sig_abs32_sat(int32_t x);
 int32_t sig_asr32(int32_t x, uint8_t n);
 int32_t sig_shl32_sat(int32_t x, uint8_t n);
 int32_t sig_mul_q16_sat(int32_t a, int32_t b);
-bool sig_real_isfinite(sig_real x);
 sig_status sig_clamp_i16(int16_t *x, int16_t lo, int16_t hi);
+#ifndef SIG_NO_FLOAT
+sig_real_bits sig_real_to_bits(sig_real x);
+bool sig_real_isfinite(sig_real x);
+bool sig_real_isnan(sig_real x);
 sig_status sig_clamp_real(sig_real *x, sig_real lo, sig_real hi);
 bool sig_real_all_finite(const sig_real *v, uint16_t n);
+#endif
 #else
 #ifdef __SDCC
 #define SIG_HELPER              /* sig_types.c: the one external definition */
@@ -156,14 +175,36 @@ SIG_HELPER int32_t sig_mul_q16_sat(int32_t a, int32_t b)
     return hi == limit ? INT32_MIN : -(int32_t)hi;
 }
 
-/* true for a finite x, false for NaN and +-inf: x - x is 0 for every finite
- * x and NaN otherwise, and NaN compares unequal to everything.  The one
- * finiteness test of the library (no <math.h>: isfinite is not available on
- * every target).  Needs IEEE comparisons: do not build with -ffast-math. */
+#ifndef SIG_NO_FLOAT
+/* The bits of a sig_real (IEEE 754 binary32 or binary64), read through a
+ * union (C99 6.5.2.3: the bytes reinterpreted).  Finiteness is tested on
+ * them, not with arithmetic: sdcc folds x - x == 0 to true and its float
+ * library compares NaN like a number, so a test built on NaN's arithmetic
+ * passes NaN on the 8051.  The exponent field all ones is inf or NaN, the
+ * same on every target (no <math.h>: isfinite is not available on every
+ * target).  Needs integers and floats of one byte order (true on the host,
+ * MSP430 and sdcc's 8051). */
+SIG_HELPER sig_real_bits sig_real_to_bits(sig_real x)
+{
+    union { sig_real r; sig_real_bits b; } u;
+    u.r = x;
+    return u.b;
+}
+
+/* true for a finite x, false for NaN and +-inf: the library's one test */
 SIG_HELPER bool sig_real_isfinite(sig_real x)
 {
-    return x - x == SIG_REAL(0.0);
+    return (sig_real_to_bits(x) & SIG_REAL_EXP_BITS) != SIG_REAL_EXP_BITS;
 }
+
+/* true for NaN only (exponent all ones, fraction not zero): where +-inf has
+ * a meaning of its own (a temperature beyond the range clamps) */
+SIG_HELPER bool sig_real_isnan(sig_real x)
+{
+    return (sig_real_to_bits(x) & ~SIG_REAL_SIGN_BIT) > SIG_REAL_EXP_BITS;
+}
+
+#endif /* SIG_NO_FLOAT */
 
 /* *x limited to [lo, hi] (lo <= hi): SIG_WARN_CLAMPED when it had to move,
  * else SIG_OK - a temperature outside the calibrated range, a scaled value
@@ -176,6 +217,7 @@ SIG_HELPER sig_status sig_clamp_i16(int16_t *x, int16_t lo, int16_t hi)
     return SIG_WARN_CLAMPED;
 }
 
+#ifndef SIG_NO_FLOAT
 /* As sig_clamp_i16; +-inf clamps, NaN passes unchanged (callers test it). */
 SIG_HELPER sig_status sig_clamp_real(sig_real *x, sig_real lo, sig_real hi)
 {
@@ -193,6 +235,7 @@ SIG_HELPER bool sig_real_all_finite(const sig_real *v, uint16_t n)
         if (!sig_real_isfinite(v[i])) return false;
     return true;
 }
+#endif /* SIG_NO_FLOAT */
 
 #endif /* __SDCC && !SIG_TYPES_DEFINE */
 

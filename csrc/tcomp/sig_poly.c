@@ -40,6 +40,7 @@ sig_status sig_poly_horner_q15(const int32_t *c, uint8_t order, int16_t u, int32
     return st;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_poly_horner_f(const sig_real *c, uint8_t order, sig_real u, sig_real *out)
 {
     sig_real acc;
@@ -52,3 +53,4 @@ sig_status sig_poly_horner_f(const sig_real *c, uint8_t order, sig_real u, sig_r
     *out = acc;
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */

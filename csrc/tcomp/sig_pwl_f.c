@@ -2,6 +2,8 @@
  * (see sig_pwl.h). */
 #include "sig_pwl.h"
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
+
 sig_status sig_pwl_init_f(sig_pwl_f *p, const sig_real *table, uint8_t n_knots,
                           sig_real t_lo, sig_real t_hi, sig_real inv_step)
 {
@@ -28,7 +30,7 @@ sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out)
     sig_real pos, lo, hi, frac, y;
     int32_t seg;
     if (p == NULL || out == NULL || p->table == NULL) return SIG_ERR_ARG;
-    if (!(t < p->t_lo) && !(t >= p->t_lo)) return SIG_ERR_NONFINITE;   /* NaN */
+    if (sig_real_isnan(t)) return SIG_ERR_NONFINITE;
     st = sig_clamp_real(&t, p->t_lo, p->t_hi);
     pos = (t - p->t_lo) * p->inv_step;
     seg = (int32_t)pos;                      /* pos >= 0: truncation is floor */
@@ -47,3 +49,4 @@ sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out)
     }
     return st;
 }
+#endif /* SIG_NO_FLOAT */

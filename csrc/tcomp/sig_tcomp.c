@@ -180,13 +180,13 @@ sig_status sig_tcomp_apply_q(const sig_tcomp_q *m, int16_t t, const int16_t *in,
     sig_status st;
     int16_t u;
     int32_t delta, corrected;
-    const int32_t *c;
     uint8_t a;
     if (m == NULL || in == NULL || out == NULL) return SIG_ERR_ARG;
     st = sig_tcomp_scale_q(m, t, &u);
-    c = m->coef[0];
-    for (a = 0; a < m->n_axes; a++, c += SIG_TCOMP_MAX_ORDER + 1u) {
-        st = (sig_status)(st | axis_delta(m, c, u, &delta));   /* never an error after init */
+    for (a = 0; a < m->n_axes; a++) {
+        /* each row through its own index: a pointer stepped from coef[0]
+         * into the next row leaves its array (C99 6.5.6p8) */
+        st = (sig_status)(st | axis_delta(m, m->coef[a], u, &delta));   /* never an error after init */
         delta = round_shift(m, m->q[a], m->q_round[a], delta);
         corrected = sig_sat_sub32((int32_t)in[a], delta);
         if (corrected > INT16_MAX || corrected < INT16_MIN) st = (sig_status)(st | SIG_WARN_SATURATED);
@@ -195,6 +195,7 @@ sig_status sig_tcomp_apply_q(const sig_tcomp_q *m, int16_t t, const int16_t *in,
     return st;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_tcomp_init_f(sig_tcomp_f *m, uint8_t n_axes, uint8_t order, const sig_real *coef,
                             sig_real t_lo, sig_real t_hi, sig_real center, sig_real inv_scale)
 {
@@ -229,7 +230,7 @@ sig_status sig_tcomp_apply_f(const sig_tcomp_f *m, sig_real t, const sig_real *i
     sig_real u, delta[SIG_TCOMP_MAX_AXES];
     uint8_t a;
     if (m == NULL || in == NULL || out == NULL) return SIG_ERR_ARG;
-    if (!(t < m->t_lo) && !(t >= m->t_lo)) return SIG_ERR_NONFINITE;   /* NaN; +-inf clamps */
+    if (sig_real_isnan(t)) return SIG_ERR_NONFINITE;   /* +-inf clamps */
     if (!sig_real_all_finite(in, m->n_axes)) return SIG_ERR_NONFINITE;
     st = sig_clamp_real(&t, m->t_lo, m->t_hi);
     u = (t - m->center) * m->inv_scale;
@@ -240,6 +241,7 @@ sig_status sig_tcomp_apply_f(const sig_tcomp_f *m, sig_real t, const sig_real *i
     for (a = 0; a < m->n_axes; a++) out[a] = in[a] - delta[a];
     return st;
 }
+#endif /* SIG_NO_FLOAT */
 
 sig_status sig_tcomp_load_image(sig_tcomp_q *m, const uint8_t *image, size_t len)
 {

@@ -37,6 +37,7 @@ static int32_t div_round_small(int32_t s, uint8_t d)
 }
 
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_antipulse_init_f(sig_antipulse_f *s, uint8_t n)
 {
     if (!s || n < 3u || n > SIG_ANTIPULSE_MAX) return SIG_ERR_ARG;
@@ -74,6 +75,7 @@ static sig_real safe_mean_f(const sig_antipulse_f *s)
     if (acc < s->mn) acc = s->mn;
     return acc;
 }
+#endif /* SIG_NO_FLOAT */
 
 /* Maximum and minimum of the window into mx, mn, after the sample leaving
  * a full window was one of them (both forms; mx, mn locals: in registers). */
@@ -86,6 +88,7 @@ static sig_real safe_mean_f(const sig_antipulse_f *s)
         }                                                   \
     } while (0)
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 static void rescan_f(sig_antipulse_f *s)
 {
     sig_real mx, mn;
@@ -155,6 +158,7 @@ sig_status sig_antipulse_step_f(sig_antipulse_f *s, sig_real x, sig_real *out)
     }
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */
 
 sig_status sig_antipulse_init_q(sig_antipulse_q *s, uint8_t n)
 {

@@ -2,6 +2,7 @@
 #include "sig_chain.h"
 #include "sig_chain_stages.h"
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 static bool nonneg_finite(sig_real x)
 {
     return sig_real_isfinite(x) && x >= SIG_REAL(0.0);
@@ -36,7 +37,8 @@ static bool params_ok_f(const sig_chain_params_f *p)
         && nonneg_finite(p->p0) && sig_real_isfinite(p->x0)
         && nonneg_finite(p->stable_step) && p->stable_count >= 1u
         && nonneg_finite(p->motion_band) && p->motion_count >= 1u
-        && nonneg_finite(p->zero_band) && nonneg_finite(p->zero_rate);
+        && nonneg_finite(p->zero_band) && nonneg_finite(p->zero_rate)
+        && (p->seed_first || (!p->noise_auto && p->p0 >= p->r));     /* see sig_chain.h */
 }
 
 /* The load moved: P back to P0; with noise_auto the estimate also starts
@@ -46,6 +48,7 @@ static void restart_kf_f(sig_chain_f *c)
     if (c->noise_auto) (void)sig_kalman1_reset_f(&c->kf);
     else (void)sig_kalman1_restart_f(&c->kf);
 }
+#endif /* SIG_NO_FLOAT */
 
 static void restart_kf_q(sig_chain_q *c)
 {
@@ -53,6 +56,7 @@ static void restart_kf_q(sig_chain_q *c)
     else (void)sig_kalman1_restart_q(&c->kf);
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* noise_auto: the thresholds from the measured sigma (sig_chain.h) */
 static void set_thresholds_f(sig_chain_f *c)
 {
@@ -64,7 +68,9 @@ static void set_thresholds_f(sig_chain_f *c)
     c->st.step = SIG_REAL(0.25) * s;
     c->zero_band = SIG_REAL(2.0) * s;
     c->zero_rate = SIG_REAL(0.0625) * s;
+    c->near_band = SIG_REAL(3.0) * s;
 }
+#endif /* SIG_NO_FLOAT */
 
 /* noise_auto, after the stages: whether this sample may update the noise
  * estimate (bool `update`) - not on a motion or re-seed event nor for a
@@ -74,13 +80,15 @@ static void set_thresholds_f(sig_chain_f *c)
  * over either chain (the fields have the same names in both): on the 8051 a
  * call, even an inlined one, costs more than the test. */
 #define NOISE_GATE(c, ret, update) do {                                              \
-        bool event_ = ((ret) & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED)) != 0;        \
+        bool event_ = ((ret) & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED | SIG_CHAIN_RAMP)) != 0; \
         bool rejected_ = ((ret) & SIG_WARN_REJECTED) != 0;                           \
         sig_chain_gate *g_ = &(c)->gate;                                             \
         if (event_) g_->holdoff = (c)->ap.n;                                         \
         else if (g_->holdoff > 0u) g_->holdoff--;                                    \
-        if (!event_ && !rejected_ && !g_->rejected_prev && g_->holdoff == 0u         \
-            && (c)->motion_run == 0u) {                                              \
+        if (((ret) & SIG_CHAIN_RAMP) != 0) {                                         \
+            (update) = false;                   /* a pour is never noise */          \
+        } else if (!event_ && !rejected_ && !g_->rejected_prev && g_->holdoff == 0u  \
+                   && (c)->motion_run == 0u) {                                       \
             if (g_->frozen > 0u) g_->frozen--;                                       \
             (update) = true;                                                         \
         } else {                                                                     \
@@ -100,6 +108,7 @@ static void noise_gate_reset(sig_chain_gate *g)
     g->frozen = 0u;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* noise_auto, after the stages: the estimator, then the thresholds; the floor flag */
 static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
 {
@@ -108,6 +117,110 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
     (void)sig_noise_step_f(&c->noise, x, update);
     set_thresholds_f(c);
     return sig_noise_at_floor_f(&c->noise) ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
+}
+
+#endif /* SIG_NO_FLOAT */
+
+/* noise_auto: the ramp follower (sig_chain.h), written once as macros over
+ * either chain (the fields have the same names in both; like NOISE_GATE).
+ * The caller's numeric form comes in as T (the type), ZERO, HALF(v) (v / 2:
+ * a multiply or a floor shift), FINITE(v), and its limit's set_ref and
+ * accept; every other operation reads the same in both forms (fixed: codes,
+ * |.| < 2^27, no overflow). */
+
+/* Before the limit: the limit judges the sample against last + slope (two
+ * slopes after a held sample), or against the last followed value when the
+ * sample looks as if the load stopped (within A0/2 of it and nearer it than
+ * the prediction); `ended` when the ramp ends here (sig_chain_ramp_stop). */
+#define RAMP_BEFORE(c, x, p, T, ZERO, HALF, SET_REF, ended) do {                       \
+        T half_ = HALF((c)->limit.a0), dl_ = (x) - (c)->last, dp_ = (x) - (p);          \
+        bool looks_ = dl_ <= half_ && -dl_ <= half_                                     \
+                      && (dl_ < ZERO ? -dl_ : dl_) <= (dp_ < ZERO ? -dp_ : dp_);        \
+        (c)->pred = (p);                                                                 \
+        (void)SET_REF(&(c)->limit, looks_ ? (c)->last : (p));                            \
+        (ended) = sig_chain_ramp_stop(looks_, &(c)->ramp, &(c)->missed, &(c)->paused);  \
+    } while (0)
+
+/* After the limit: start, follow or end a ramp; *y is the limit's output,
+ * replaced when the ramp takes the sample or holds a value.  A start needs
+ * the sample to have moved on by more than A0/2 and its two steps out (Dc to
+ * the first rejected sample, that to this one) within a factor 4. */
+#define RAMP_AFTER(c, x, y, ret, finite, T, ZERO, HALF, ACCEPT, SET_REF) do {           \
+        T d_, moved_, before_, a0_ = (c)->limit.a0;                                      \
+        switch (sig_chain_ramp_case(&(c)->ramp, &(c)->missed, &(c)->paused, (ret),       \
+                                    (c)->limit.t.run)) {                                 \
+        case SIG_CHAIN_RAMP_FOLLOW:           /* the slope: half way to the new step */  \
+            if (!(c)->missed && !(c)->paused)                                            \
+                (c)->slope += HALF(((x) - (c)->last) - (c)->slope);                      \
+            (c)->last = (x);                                                             \
+            (c)->missed = false;                                                         \
+            (c)->followed = true;                                                        \
+            (ret) = (sig_status)((ret) | SIG_CHAIN_RAMP);                                \
+            break;                                                                       \
+        case SIG_CHAIN_RAMP_BROKEN:                                                      \
+            d_ = (x) - (c)->origin;                                                      \
+            moved_ = (x) - (c)->pred;                                                    \
+            before_ = (c)->last - (c)->origin;                                           \
+            if ((finite) && d_ <= a0_ && -d_ <= a0_) {        /* came back: taken */     \
+                (c)->ramp = (c)->missed = (c)->paused = false;                           \
+                (void)ACCEPT(&(c)->limit, (x));                                          \
+                *(y) = (x);                                                              \
+                (ret) = SIG_CHAIN_TAKEN(ret);                                            \
+            } else if (!(c)->followed                         /* a glitch pair */        \
+                       && (moved_ < ZERO ? -moved_ : moved_) > (d_ < ZERO ? -d_ : d_)   \
+                       && (d_ < ZERO ? -d_ : d_) <= (before_ < ZERO ? -before_ : before_)) { \
+                (c)->ramp = (c)->missed = (c)->paused = false;                           \
+                (void)SET_REF(&(c)->limit, (c)->origin);                                 \
+                *(y) = (c)->origin;                                                      \
+                (ret) = (sig_status)((ret) | SIG_LIMIT_RESEEDED);                        \
+            } else {                                                                     \
+                *(y) = (c)->last;                                                        \
+                (ret) = sig_chain_ramp_hold(&(c)->ramp, &(c)->missed, &(c)->paused, (ret)); \
+            }                                                                            \
+            break;                                                                       \
+        case SIG_CHAIN_RAMP_TRY:                                                         \
+            d_ = (x) - (c)->prev_x;                                                      \
+            moved_ = (c)->limit.t.side > 0 ? d_ : -d_;                                   \
+            before_ = (c)->limit.t.side > 0 ? (c)->prev_x - (c)->limit.dc                \
+                                            : (c)->limit.dc - (c)->prev_x;               \
+            if ((finite) && moved_ > HALF(a0_) && 4 * moved_ >= before_                  \
+                && moved_ <= 4 * before_) {                                              \
+                (c)->origin = (c)->limit.dc;                                             \
+                (void)ACCEPT(&(c)->limit, (x));                                          \
+                (c)->ramp = true;                                                        \
+                (c)->missed = (c)->paused = (c)->followed = false;                       \
+                (c)->slope = d_;                                                         \
+                (c)->last = (x);                                                         \
+                *(y) = (x);                                                              \
+                (ret) = (sig_status)(SIG_CHAIN_TAKEN(ret) | SIG_CHAIN_RAMP);             \
+            }                                                                            \
+            break;                                                                       \
+        default:                                                                         \
+            break;                                                                       \
+        }                                                                                \
+        if (finite) (c)->prev_x = (x);                                                   \
+    } while (0)
+
+#define HALF_F(v) ((v) * SIG_REAL(0.5))
+#define HALF_Q(v) sig_asr32((v), 1u)
+
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
+static bool ramp_before_f(sig_chain_f *c, sig_real x)
+{
+    sig_real p;
+    bool ended;
+    if (!c->ramp) return false;
+    p = c->last + (c->missed ? c->slope + c->slope : c->slope);
+    if (!sig_real_isfinite(p)) p = c->last;
+    RAMP_BEFORE(c, x, p, sig_real, SIG_REAL(0.0), HALF_F, sig_limit_set_ref_f, ended);
+    return ended;
+}
+
+static sig_status ramp_after_f(sig_chain_f *c, sig_real x, sig_real *y, sig_status ret)
+{
+    bool finite = sig_real_isfinite(x);
+    RAMP_AFTER(c, x, y, ret, finite, sig_real, SIG_REAL(0.0), HALF_F, sig_limit_accept_f, sig_limit_set_ref_f);
+    return ret;
 }
 
 sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p)
@@ -139,6 +252,12 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->stable = false;
     c->has_out = false;
     noise_gate_reset(&c->gate);
+    c->slope = c->last = c->origin = c->prev_x = c->pred = SIG_REAL(0.0);
+    c->ramp = c->missed = c->paused = c->followed = false;
+    c->settled = false;
+    c->anchor = SIG_REAL(0.0);
+    c->drift_age = 0u;
+    c->drifting = true;
     (void)sig_noise_reset_f(&c->noise);
     set_thresholds_f(c);
     return SIG_OK;
@@ -148,18 +267,29 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
 {
     sig_status st, ret;
     sig_real y, m, xk;
-    bool stab;
+    bool stab, ramp_ended;
     if (!c || !out || !stable) return SIG_ERR_ARG;
+    /* a ramp needs a seeded limit, so nothing changes before the error below */
+    ramp_ended = c->noise_auto && ramp_before_f(c, x);
     st = sig_limit_step_f(&c->limit, x, &y);
     if (st < 0) return st;                      /* non-finite and nothing seeded yet */
     ret = st;
-    if ((st & SIG_LIMIT_RESEEDED) != 0) {
+    if (c->noise_auto) ret = ramp_after_f(c, x, &y, ret);
+    if ((ret & SIG_LIMIT_RESEEDED) != 0) {
         (void)sig_antipulse_reset_f(&c->ap);
         if (c->motion_band > SIG_REAL(0.0)) restart_kf_f(c);
         c->motion_run = 0u;
     }
+    if (c->ramp || ramp_ended) {                /* the window holds the ramp's last sample only */
+        (void)sig_antipulse_reset_f(&c->ap);
+        c->motion_run = 0u;
+    }
+    if (ramp_ended) {
+        restart_kf_f(c);
+        ret = (sig_status)(ret | SIG_CHAIN_MOTION);
+    }
     (void)sig_antipulse_step_f(&c->ap, y, &m);
-    if (c->motion_band > SIG_REAL(0.0) && c->kf.seeded
+    if (c->motion_band > SIG_REAL(0.0) && c->kf.seeded && !c->ramp
         && sig_chain_motion(m - c->kf.x > c->motion_band || c->kf.x - m > c->motion_band,
                             &c->motion_run, c->motion_count)) {
         (void)sig_antipulse_reset_f(&c->ap);
@@ -168,7 +298,7 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
         ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_f(&c->limit, m);
-    if (c->noise_auto && (c->ap.count < c->ap.n || !c->stable))
+    if (c->noise_auto && (c->ap.count < c->ap.n || !c->settled))
         (void)sig_kalman1_reset_f(&c->kf);      /* settling: the window's trimmed mean is the estimate */
     /* m is finite (the anti-pulse mean is clamped to its window), so these
      * cannot fail; if they ever did, stop before using an unset estimate */
@@ -176,6 +306,16 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     if (st < 0) return st;
     st = sig_stable_step_f(&c->st, xk, &stab);
     if (st < 0) return st;
+    c->settled = stab;
+    if (c->noise_auto && sig_chain_drift_due(c->ap.count < c->ap.n, &c->drift_age, c->ap.n, &c->drifting)) {
+        if (c->ap.count == c->ap.n)
+            c->drifting = xk - c->anchor > c->noise.sigma || c->anchor - xk > c->noise.sigma;
+        c->anchor = xk;
+    }
+    if (c->noise_auto && stab)
+        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting,
+                                y - xk <= c->near_band && xk - y <= c->near_band
+                                && m - xk <= c->noise.sigma && xk - m <= c->noise.sigma);
     if (stab && sig_chain_offset_f(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
         ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = xk - c->offset;
@@ -207,6 +347,7 @@ sig_status sig_chain_set_offset_f(sig_chain_f *c, sig_real offset)
     c->tare_pending = false;
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */
 
 /* ---- fixed point ---------------------------------------------------------- */
 
@@ -223,7 +364,8 @@ static bool params_ok_q(const sig_chain_params_q *p)
         && p->q_q30 <= SIG_KALMAN1_Q_MAX && p->p0_q16 <= SIG_KALMAN1_P0_MAX
         && p->stable_step_q7 >= 0 && p->stable_count >= 1u
         && p->motion_band_q7 >= 0 && p->motion_count >= 1u
-        && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0;
+        && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0
+        && (p->seed_first || (!p->noise_auto && p->p0_q16 >= (uint32_t)SIG_Q16_ONE));
 }
 
 static void set_thresholds_q(sig_chain_q *c)
@@ -238,6 +380,7 @@ static void set_thresholds_q(sig_chain_q *c)
     c->st.step = s >> 2;
     c->zero_band = s2;
     c->zero_rate = s >> 4;
+    c->near_band = s2 + s;
 }
 
 static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)
@@ -248,6 +391,23 @@ static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)
     set_thresholds_q(c);
     /* sig_noise_at_floor_q inline: a call costs the 8051 more than the compare */
     return c->noise.sigma <= SIG_NOISE_FLOOR_Q7 ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
+}
+
+static bool ramp_before_q(sig_chain_q *c, int32_t x)
+{
+    int32_t p;
+    bool ended;
+    if (!c->ramp) return false;
+    p = c->last + (c->missed ? c->slope + c->slope : c->slope);   /* |last| < 2^24, |slope| < 2^25 */
+    p = p > SIG_CODE_MAX ? SIG_CODE_MAX : (p < -SIG_CODE_MAX ? -SIG_CODE_MAX : p);
+    RAMP_BEFORE(c, x, p, int32_t, 0, HALF_Q, sig_limit_set_ref_q, ended);
+    return ended;
+}
+
+static sig_status ramp_after_q(sig_chain_q *c, int32_t x, int32_t *y, sig_status ret)
+{
+    RAMP_AFTER(c, x, y, ret, true, int32_t, 0, HALF_Q, sig_limit_accept_q, sig_limit_set_ref_q);
+    return ret;
 }
 
 sig_status sig_chain_init_q(sig_chain_q *c, const sig_chain_params_q *p)
@@ -279,6 +439,12 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->stable = false;
     c->has_out = false;
     noise_gate_reset(&c->gate);
+    c->slope = c->last = c->origin = c->prev_x = c->pred = 0;
+    c->ramp = c->missed = c->paused = c->followed = false;
+    c->settled = false;
+    c->anchor = 0;
+    c->drift_age = 0u;
+    c->drifting = true;
     (void)sig_noise_reset_q(&c->noise);
     set_thresholds_q(c);
     return SIG_OK;
@@ -288,19 +454,29 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
 {
     sig_status ret = SIG_OK;
     int32_t y, m, m7, xk;
-    bool stab;
+    bool stab, ramp_ended;
     if (!c || !out_q7 || !stable) return SIG_ERR_ARG;
     if (x > SIG_CODE_MAX) { x = SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
     else if (x < -SIG_CODE_MAX) { x = -SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
+    ramp_ended = c->noise_auto && ramp_before_q(c, x);
     ret = (sig_status)(ret | sig_limit_step_q(&c->limit, x, &y));
+    if (c->noise_auto) ret = ramp_after_q(c, x, &y, ret);
     if ((ret & SIG_LIMIT_RESEEDED) != 0) {
         (void)sig_antipulse_reset_q(&c->ap);
         if (c->motion_band > 0) restart_kf_q(c);
         c->motion_run = 0u;
     }
+    if (c->ramp || ramp_ended) {                /* the window holds the ramp's last sample only */
+        (void)sig_antipulse_reset_q(&c->ap);
+        c->motion_run = 0u;
+    }
+    if (ramp_ended) {
+        restart_kf_q(c);
+        ret = (sig_status)(ret | SIG_CHAIN_MOTION);
+    }
     (void)sig_antipulse_step_q(&c->ap, y, &m);
     m7 = codes_to_q7(m);
-    if (c->motion_band > 0 && c->kf.seeded
+    if (c->motion_band > 0 && c->kf.seeded && !c->ramp
         && sig_chain_motion(sig_abs32_sat(sig_sat_sub32(m7, c->kf.x)) > c->motion_band,
                             &c->motion_run, c->motion_count)) {
         (void)sig_antipulse_reset_q(&c->ap);
@@ -310,10 +486,19 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
         ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_q(&c->limit, m);
-    if (c->noise_auto && (c->ap.count < c->ap.n || !c->stable))
+    if (c->noise_auto && (c->ap.count < c->ap.n || !c->settled))
         (void)sig_kalman1_reset_q(&c->kf);      /* settling: the window's trimmed mean is the estimate */
     (void)sig_kalman1_step_q(&c->kf, m7, &xk);
     (void)sig_stable_step_q(&c->st, xk, &stab);
+    c->settled = stab;
+    if (c->noise_auto && sig_chain_drift_due(c->ap.count < c->ap.n, &c->drift_age, c->ap.n, &c->drifting)) {
+        if (c->ap.count == c->ap.n) c->drifting = sig_abs32_sat(sig_sat_sub32(xk, c->anchor)) > c->noise.sigma;
+        c->anchor = xk;
+    }
+    if (c->noise_auto && stab)
+        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting,
+                                sig_abs32_sat(sig_sat_sub32(codes_to_q7(y), xk)) <= c->near_band
+                                && sig_abs32_sat(sig_sat_sub32(m7, xk)) <= c->noise.sigma);
     if (stab && sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
         ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = sig_sat_sub32(xk, c->offset);

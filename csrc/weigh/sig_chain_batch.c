@@ -2,6 +2,15 @@
 #include "sig_chain_batch.h"
 #include "sig_chain_stages.h"
 
+/* Host and 32-bit firmware only.  Under sdcc --stack-auto the fast path's
+ * frame (about 259 bytes) outgrows the 8051's internal RAM and its frame
+ * offsets wrap (warning 158): silently wrong code.  An 8051 firmware steps
+ * the chain one sample at a time (sig_chain_step_*). */
+#ifdef __SDCC
+#error "sig_chain_batch.c is not for the 8051: call sig_chain_step_f/_q per sample"
+#endif
+
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* Largest |sample| the batch fast path takes: a sum of SIG_ANTIPULSE_MAX + 2
  * such values cannot overflow, so the window sum and trimmed mean need no
  * finiteness checks (DBL_MAX ~ 1.8e308, FLT_MAX ~ 3.4e38). */
@@ -182,6 +191,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
 }
 #undef HOT_LOAD_F
 #undef HOT_STORE_F
+#endif /* SIG_NO_FLOAT */
 
 sig_status sig_chain_process_q(sig_chain_q *c, const int32_t *x, size_t n, int32_t *out_q7, uint8_t *stable)
 {

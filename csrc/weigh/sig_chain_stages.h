@@ -32,6 +32,87 @@ SIG_CHAIN_STAGE bool sig_chain_motion(bool moving, uint8_t *run, uint8_t count)
     return true;
 }
 
+/* noise_auto, the ramp follower before the limit: a sample that looks as if
+ * the load stopped (within A0/2 of the last followed one and nearer it than
+ * the prediction, tested by the caller) pauses the ramp; the second in a
+ * row ends it (returns true). */
+SIG_CHAIN_STAGE bool sig_chain_ramp_stop(bool looks_stopped, bool *on, bool *missed, bool *paused)
+{
+    if (!looks_stopped) {
+        *paused = false;
+        return false;
+    }
+    if (*paused) {
+        *on = *missed = *paused = false;
+        return true;
+    }
+    *paused = true;
+    return false;
+}
+
+/* noise_auto, the ramp follower after the limit (sig_chain.h): what this
+ * sample is for the ramp, from the limit's status and run (a re-seed ends
+ * the ramp).  The caller does the arithmetic of each case in its own
+ * number format. */
+#define SIG_CHAIN_RAMP_NONE 0u
+#define SIG_CHAIN_RAMP_FOLLOW 1u     /* accepted within A0 of the prediction */
+#define SIG_CHAIN_RAMP_BROKEN 2u     /* rejected: back near the origin, or hold */
+#define SIG_CHAIN_RAMP_TRY 3u        /* second rejection on one side: a ramp if it moved on */
+SIG_CHAIN_STAGE uint8_t sig_chain_ramp_case(bool *on, bool *missed, bool *paused, sig_status ret, uint8_t run)
+{
+    bool rejected = (ret & SIG_WARN_REJECTED) != 0;
+    if (!*on) return rejected && run >= 2u ? SIG_CHAIN_RAMP_TRY : SIG_CHAIN_RAMP_NONE;
+    if ((ret & SIG_LIMIT_RESEEDED) != 0) {
+        *on = *missed = *paused = false;
+        return SIG_CHAIN_RAMP_NONE;
+    }
+    return rejected ? SIG_CHAIN_RAMP_BROKEN : SIG_CHAIN_RAMP_FOLLOW;
+}
+
+/* A rejected sample during a ramp, not back at its origin: the last followed
+ * value is held; the first such sample keeps the ramp (a glitch in a pour),
+ * a second in a row ends it.  Returns the status. */
+SIG_CHAIN_STAGE sig_status sig_chain_ramp_hold(bool *on, bool *missed, bool *paused, sig_status ret)
+{
+    if (*missed) {
+        *on = *missed = *paused = false;
+        return ret;
+    }
+    *missed = true;
+    return (sig_status)(ret | SIG_CHAIN_RAMP);
+}
+
+/* a sample the ramp logic took after the limit had rejected it: no impulse,
+ * a re-seed (window and Kalman restart) */
+#define SIG_CHAIN_TAKEN(ret) ((sig_status)(((ret) & ~SIG_WARN_REJECTED) | SIG_LIMIT_RESEEDED))
+
+/* noise_auto: the output's drift over blocks of n samples (sig_chain.h).
+ * True when the caller sets the anchor to the output: on every sample while
+ * the window refills (drifting until a block is seen), and at each block's
+ * end (the caller first sets `drifting` from the block's change). */
+SIG_CHAIN_STAGE bool sig_chain_drift_due(bool refilling, uint8_t *age, uint8_t n, bool *drifting)
+{
+    if (refilling) {
+        *age = 0u;
+        *drifting = true;
+        return true;
+    }
+    if (++*age < n) return false;
+    *age = 0u;
+    return true;
+}
+
+/* noise_auto: the stability detector's verdict counts only when the output
+ * is backed by the samples (sig_chain.h); `near`: the sample and the window
+ * mean near the output, tested by the caller in its own format. */
+SIG_CHAIN_STAGE bool sig_chain_backed(sig_status ret, uint8_t held, uint8_t n, uint8_t motion_run,
+                                      bool drifting, bool near)
+{
+    return (ret & (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED | SIG_CHAIN_MOTION | SIG_CHAIN_RAMP)) == 0
+        && held == n && motion_run == 0u && !drifting && near;
+}
+
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* Tare and zero tracking on a stable sample xk: a pending tare takes xk as
  * the offset (returns true); otherwise, while |xk - offset| <= zband, the
  * offset moves towards xk by at most zrate (zband 0: no tracking). */
@@ -48,6 +129,7 @@ SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, bool *tar
     *offset += dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
     return false;
 }
+#endif /* SIG_NO_FLOAT */
 
 /* no subtraction while nothing is pending and tracking is off: the 8051
  * pays a call for each saturating operation */

@@ -29,6 +29,7 @@ static int32_t mul_q30_gain(int32_t a, uint32_t k)
 }
 
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_kalman1_init_f(sig_kalman1_f *s, sig_real q, sig_real r, sig_real p0,
                               sig_real x0, bool seed_first)
 {
@@ -85,6 +86,7 @@ sig_status sig_kalman1_step_f(sig_kalman1_f *s, sig_real z, sig_real *out)
     *out = s->x;
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */
 
 /* floor(2^46 / d) for 2^16 <= d < 2^31 by shift and subtract (init only). */
 static uint32_t recip46(uint32_t d)

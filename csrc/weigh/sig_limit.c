@@ -1,11 +1,13 @@
 /* sig_limit.c - limit (threshold) filter with the lock-out fix; see sig_limit.h. */
 #include "sig_limit.h"
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* Where a sample lies, from d = x - Dc: +1 above A0, -1 below -A0, 0 within. */
 static int8_t side_f(sig_real d, sig_real a0)
 {
     return d > a0 ? (int8_t)1 : (d < -a0 ? (int8_t)-1 : (int8_t)0);
 }
+#endif /* SIG_NO_FLOAT */
 
 static int8_t side_q(int32_t d, int32_t a0)
 {
@@ -17,6 +19,13 @@ static void track_reset(sig_limit_track *t)
     t->run = 0u;
     t->side = 0;
     t->seeded = false;
+}
+
+static void track_accept(sig_limit_track *t)
+{
+    t->run = 0u;
+    t->side = 0;
+    t->seeded = true;
 }
 
 /* The decision both forms share once the typed code has placed the sample:
@@ -38,6 +47,7 @@ static sig_status track_decide(sig_limit_track *t, int8_t side)
     return outside ? SIG_LIMIT_RESEEDED : SIG_OK;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_limit_init_f(sig_limit_f *s, sig_real a0, uint8_t lockout_n)
 {
     if (!s || !sig_real_isfinite(a0) || !(a0 > SIG_REAL(0.0))) return SIG_ERR_ARG;
@@ -78,6 +88,15 @@ sig_status sig_limit_set_ref_f(sig_limit_f *s, sig_real dc)
     return SIG_OK;
 }
 
+sig_status sig_limit_accept_f(sig_limit_f *s, sig_real x)
+{
+    if (!s || !sig_real_isfinite(x)) return SIG_ERR_ARG;
+    s->dc = x;
+    track_accept(&s->t);
+    return SIG_OK;
+}
+#endif /* SIG_NO_FLOAT */
+
 sig_status sig_limit_init_q(sig_limit_q *s, int32_t a0, uint8_t lockout_n)
 {
     if (!s || a0 <= 0) return SIG_ERR_ARG;
@@ -109,5 +128,13 @@ sig_status sig_limit_set_ref_q(sig_limit_q *s, int32_t dc)
     if (!s) return SIG_ERR_ARG;
     s->dc = dc;
     s->t.seeded = true;
+    return SIG_OK;
+}
+
+sig_status sig_limit_accept_q(sig_limit_q *s, int32_t x)
+{
+    if (!s) return SIG_ERR_ARG;
+    s->dc = x;
+    track_accept(&s->t);
     return SIG_OK;
 }

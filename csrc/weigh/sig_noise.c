@@ -2,11 +2,7 @@
 #include "sig_noise.h"
 #include "sig_antipulse.h"
 
-static bool finite_f(sig_real x)
-{
-    return x - x == SIG_REAL(0.0);
-}
-
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 static sig_real floor_f(sig_real x, sig_real res)
 {
     sig_real f = (x < SIG_REAL(0.0) ? -x : x) * SIG_NOISE_FLOOR_REL;
@@ -37,7 +33,7 @@ sig_status sig_noise_step_f(sig_noise_f *s, sig_real x, bool update)
     sig_real d, up, lo;
     uint8_t sh;
     if (!s) return SIG_ERR_ARG;
-    if (!finite_f(x)) return SIG_WARN_REJECTED;
+    if (!sig_real_isfinite(x)) return SIG_WARN_REJECTED;
     d = x - s->prev;                            /* may overflow to inf: counts as large */
     if (d < SIG_REAL(0.0)) d = -d;
     if (s->has_prev && d > SIG_REAL(0.0) && d < SIG_NOISE_MAX_F && (d < s->res || s->res == SIG_REAL(0.0)))
@@ -69,6 +65,7 @@ bool sig_noise_at_floor_f(const sig_noise_f *s)
 {
     return s->sigma <= floor_f(s->prev, s->res);
 }
+#endif /* SIG_NO_FLOAT */
 
 sig_status sig_noise_reset_q(sig_noise_q *s)
 {

@@ -69,6 +69,7 @@ sig_status sig_scale_apply_q16(const sig_scale_q16 *s, int32_t counts, int32_t *
     return saturated ? SIG_WARN_SATURATED : SIG_OK;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_scale_init_f(sig_scale_f *s, sig_real offset, sig_real gain)
 {
     if (s == NULL) return SIG_ERR_ARG;
@@ -86,3 +87,4 @@ sig_status sig_scale_apply_f(const sig_scale_f *s, sig_real counts, sig_real *ma
     *mass = (counts - s->offset) * s->gain;
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */

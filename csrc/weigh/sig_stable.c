@@ -1,6 +1,7 @@
 /* sig_stable.c - stability detector; see sig_stable.h. */
 #include "sig_stable.h"
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 sig_status sig_stable_init_f(sig_stable_f *s, sig_real step, uint8_t count)
 {
     if (!s || !sig_real_isfinite(step) || step < SIG_REAL(0.0) || count == 0u) return SIG_ERR_ARG;
@@ -30,6 +31,7 @@ sig_status sig_stable_step_f(sig_stable_f *s, sig_real x, bool *stable)
     *stable = s->run >= s->count;
     return SIG_OK;
 }
+#endif /* SIG_NO_FLOAT */
 
 sig_status sig_stable_init_q(sig_stable_q *s, int32_t step_q7, uint8_t count)
 {

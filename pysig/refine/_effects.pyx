@@ -1,5 +1,5 @@
 # cython: language_level=3
-"""Cython bridge to csrc/refine/sig_effects.c: the on-device refinement effects
+"""Cython bridge to csrc/refine/ (sig_effects.h): the on-device refinement effects
 over numpy arrays, with the very C code the firmware runs.  Stateful forms
 take and return `state` (a tuple) so a long signal can be processed in
 pieces with the same result (scipy.signal's zi/zf)."""

@@ -88,6 +88,7 @@ int main(void)
     sig_chain_params_paper_f(&p);
     p.q = BIG;
     p.r = BIG;
+    p.seed_first = true;    /* P0 < R: a start from x0 is refused (sig_chain.h) */
     {
         sig_real small[4] = {1, 2, 3, 4};
         run("huge Q and R", &p, small, 4);

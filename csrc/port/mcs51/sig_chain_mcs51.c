@@ -243,7 +243,10 @@ static bool params_ok(const sig_chain_params_q *p)
         && p->q_q30 <= SIG_KALMAN1_Q_MAX && p->p0_q16 <= SIG_KALMAN1_P0_MAX
         && p->stable_step_q7 >= 0 && p->stable_count >= 1u
         && p->motion_band_q7 >= 0 && p->motion_count >= 1u
-        && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0;
+        && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0
+        /* the portable chain's start rule (sig_chain.h); the measured noise
+         * is not a stage of this port: refused, not ignored */
+        && !p->noise_auto && (p->seed_first || p->p0_q16 >= (uint32_t)SIG_Q16_ONE);
 }
 
 sig_status sig_chain_mcs51_init(const sig_chain_params_q *p,

@@ -8,7 +8,7 @@ JSON and, with --header, a C header with the arguments of sig_scale_init_q16
 (Q16.16 mass out) and sig_scale_init_f."""
 from ...errors import InputFileError, SaturationError
 from ...io import atomic_output, read_csv
-from ...weigh.scale import calibrate, first_saturated, saturated_count
+from ...weigh import calibrate, first_saturated, saturated_count
 
 
 def register(sub):

@@ -9,7 +9,9 @@ it is a terminal.  OUT is IN's columns (the filtered column as float64) plus
 `filtered` and `stable` (1/0), and
 with --status the chain's status bits per sample (4 impulse replaced,
 16 lock-out re-seed, 32 motion restart, 64 tare applied, 1 clamped,
-128 measured noise at its floor: a stuck sensor).
+128 measured noise at its floor: a stuck sensor, 256 a pour followed as a
+ramp).  The summary tells impulses (replaced samples after which the load
+did not move) from samples of load motion (pysig.weigh.EventCounter).
 
 The default preset, `auto`, needs no sensor constant and no unit: it
 measures the noise on the fly and every threshold (A0, motion band,
@@ -26,12 +28,10 @@ fixed-point C code (samples rounded to integer codes)."""
 import numpy as np
 import pyarrow as pa
 
-from ...weigh.chain import PRESETS, Chain
+from ...weigh import CODE_MAX, PRESETS, Chain, EventCounter
 from ...errors import InputFileError, NonFiniteError, SaturationError
-from ...weigh.presets import CODE_MAX
 from ...io import from_numpy, numeric_column, read_header, read_table, row_label
 from ...io_stream import iter_batches, progress, table_sink
-from ...status import Warn
 
 
 
@@ -122,7 +122,8 @@ def run(args):
     chain = Chain(preset=args.preset, fixed=args.fixed, units_per_kg=args.units_per_kg, **overrides)
     if args.tare:
         chain.tare()
-    rows = rejected = stable_rows = 0
+    rows = stable_rows = 0
+    events = EventCounter()
     with table_sink(args.output) as sink, progress(args.input) as advance:
         for offset, batch in _batches(args):
             x = numeric_column(args.input, args.column, batch[args.column], offset)
@@ -138,9 +139,11 @@ def run(args):
             make = pa.Table.from_arrays if isinstance(batch, pa.Table) else pa.RecordBatch.from_arrays
             sink.write(make(list(cols.values()), names=list(cols)))
             rows += x.size
-            rejected += int(np.count_nonzero(status & Warn.WARN_REJECTED))
+            events.update(status)
             stable_rows += int(np.count_nonzero(stable))
             advance(x.size)
+    counts = events.finish()
     print(f"wrote {args.output}: {rows} rows, preset {args.preset}"
-          f"{' (fixed point)' if args.fixed else ''}, {rejected} samples replaced as impulses, "
+          f"{' (fixed point)' if args.fixed else ''}, {counts['impulses']} samples replaced as impulses, "
+          f"{counts['motion_samples']} samples of load motion (steps, pours, swings), "
           f"stable on {stable_rows / max(rows, 1) * 100:.1f} % of rows")

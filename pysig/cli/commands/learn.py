@@ -16,8 +16,7 @@ import numpy as np
 from ...errors import InputFileError, RangeError
 from ...io import read_csv
 from ...learn import LearnConfig, replay, write_outputs
-from ...tcomp import tmodel
-from ...tcomp.tempcode import CELSIUS, CODE_INT16, CODE_UINT16, TempCode
+from ...tcomp import CELSIUS, image_bytes, load, raw_code
 
 
 def register(sub):
@@ -39,7 +38,7 @@ def register(sub):
 def _temp_code(args, temp):
     if args.temp_unit == "c":
         return CELSIUS
-    return TempCode(unit="raw", code_kind=CODE_UINT16 if np.nanmax(temp) > 32767 else CODE_INT16)
+    return raw_code(temp)
 
 
 def _start_image(path, what):
@@ -50,7 +49,7 @@ def _start_image(path, what):
     if head == b"psig":
         with open(path, "rb") as fh:
             return fh.read()
-    return tmodel.image_bytes(tmodel.load(path), what=what)
+    return image_bytes(load(path), what=what)
 
 
 def run(args):
