@@ -247,7 +247,7 @@ static uint16_t write_image(const sig_learn *s, const sig_learn_scratch *work,
 {
     const int32_t (*v)[SIG_LEARN_MAX_AXES] = work->knots;
     int32_t mx;
-    uint8_t n_knots = (uint8_t)(k_hi - k_lo + 1u), n = s->cfg.n_axes, a, i, vf;
+    uint8_t n_knots = (uint8_t)((uint8_t)(k_hi - k_lo) + 1u), n = s->cfg.n_axes, a, i, vf;
     uint16_t pay_len = (uint16_t)(SIG_PWL_IMAGE_FIXED_LEN + (uint16_t)n * (1u + 2u * (uint16_t)n_knots));
     uint16_t total = (uint16_t)(SIG_IMAGE_HEADER_LEN + SIG_IMAGE_SECTION_HDR_LEN + pay_len +
                                 SIG_IMAGE_SECTION_HDR_LEN + SIG_TEMP_CODE_LEN + SIG_IMAGE_CRC_LEN);
@@ -333,7 +333,7 @@ sig_status sig_learn_solve(sig_learn *s, const sig_tmodel *model, uint32_t live_
     s->committed = true;
     s->last_commit = s->steps;
     report->outcome = SIG_LEARN_COMMIT;
-    report->n_knots = (uint8_t)(k_hi - k_lo + 1u);
+    report->n_knots = (uint8_t)((uint8_t)(k_hi - k_lo) + 1u);
     report->t_lo = sig_image_get_i16(image + SIG_IMAGE_HEADER_LEN + SIG_IMAGE_SECTION_HDR_LEN + 2u);
     report->t_hi = sig_image_get_i16(image + SIG_IMAGE_HEADER_LEN + SIG_IMAGE_SECTION_HDR_LEN + 4u);
     return SIG_LEARN_COMMITTED;
