@@ -51,6 +51,10 @@ class Warn(IntFlag):
     CHAIN_TARED = 64
     CHAIN_NOISE_FLOOR = 128
     CHAIN_RAMP = 256
+    LEARN_STALE = 512
+    LEARN_SKIPPED = 1024
+    LEARN_EXTRAPOLATED = 2048
+    LEARN_COMMITTED = 4096
 
 
 _ERROR_TEXT = {
@@ -71,6 +75,10 @@ _WARN_TEXT = {
     Warn.CHAIN_TARED: "tare applied",
     Warn.CHAIN_NOISE_FLOOR: "measured noise at its floor (a stuck sensor?)",
     Warn.CHAIN_RAMP: "load moving steadily (a pour), followed",
+    Warn.LEARN_STALE: "the model in use is stale (CUSUM of the still residual)",
+    Warn.LEARN_SKIPPED: "still sample outside the learner's bins or beyond +-2047: not learned",
+    Warn.LEARN_EXTRAPOLATED: "temperature outside the range of the model in use",
+    Warn.LEARN_COMMITTED: "a validated model was written into a new image",
 }
 
 

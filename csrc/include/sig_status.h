@@ -29,6 +29,10 @@ typedef int16_t sig_status;
                                                    floor (a stuck sensor, or noise below a quarter code) */
 #define SIG_CHAIN_RAMP      ((sig_status)256)  /* weighing chain: the load is moving steadily (a pour); the
                                                    output follows the samples */
+#define SIG_LEARN_STALE     ((sig_status)512)  /* learner: the CUSUM of the still residual says the model in use is stale */
+#define SIG_LEARN_SKIPPED   ((sig_status)1024)  /* learner: a still sample outside the bins or beyond +-2047 was not learned */
+#define SIG_LEARN_EXTRAPOLATED ((sig_status)2048) /* learner: the temperature is outside the range of the model in use */
+#define SIG_LEARN_COMMITTED ((sig_status)4096) /* learner: a validated model was written into a new image */
 
 /* ---- errors (nothing produced, state unchanged) ------------------------- */
 #define SIG_ERR_ARG         ((sig_status)-1)   /* NULL pointer or parameter out of range */
