@@ -11,10 +11,12 @@ tcomp        temperature-compensation models: fit, load, apply, image, C header
 fleet        many devices at once: batched fits, screening, per-device images
 store        the coefficient image (sections, CRC, A/B sequence, device id)
 refine       the residual loop: find the effect a model lacks, before / after
+learn        the device learns its own calibration (the C learner, replayed)
 sim          simulators: load cell, thermal chamber
 io           CSV and Parquet in and out (pyarrow), JSON model files
 io_stream    chunked reading and atomic chunked writing of large files
 lsq          the one least-squares solver every calibration uses
+folds        the one blocked cross-validation split (by time or temperature)
 status       the C core's status codes and warning bits
 errors       the named exceptions (also here at the top level)
 ===========  ==================================================================
@@ -26,7 +28,8 @@ from .errors import (InputFileError, InsufficientDataError, ModelFileError, NonF
 
 __version__ = "0.1.0"
 
-_AREAS = ("weigh", "tcomp", "fleet", "store", "refine", "sim", "io", "io_stream", "lsq", "status", "errors")
+_AREAS = ("weigh", "tcomp", "fleet", "store", "refine", "learn", "sim", "io", "io_stream", "lsq", "folds", "status",
+          "errors")
 
 __all__ = ["__version__", *_AREAS, "PysigError", "InputFileError", "NonFiniteError", "InsufficientDataError",
            "SaturationError", "ModelFileError", "RangeError", "OutputFileError"]
