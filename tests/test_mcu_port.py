@@ -19,6 +19,7 @@ from hypothesis import assume, given, settings, strategies as st
 from conftest import CSRC_INCLUDE, ROOT, require_tool
 
 from pysig.errors import RangeError
+from pysig.status import Status
 from pysig.mcu import pwl_vectors, runner, tcomp16_vectors, vectors
 from pysig.mcu._chain_mcs51 import ChainMcs51, gain_table
 from pysig.reference.chain import chain_fixed_params, chain_params
@@ -68,15 +69,18 @@ def _portable(preset, upk, ov, x):
 
 @st.composite
 def chain_cases(draw):
-    preset = draw(st.sampled_from(["recommended", "paper"]))
+    preset = draw(st.sampled_from(["recommended", "paper", "auto"]))
     upk = draw(st.sampled_from([100.0, 2204.6] + ([20000.0] if preset == "recommended" else [])))
-    r = draw(st.sampled_from([1e-6, 1e-5, 1e-4, 1e-3]))
-    ov = dict(window=draw(st.integers(3, 32)), R=r,
-              Q=r * draw(st.sampled_from([1e-4, 1e-3, 1e-2, 0.1])),     # q = Q/R <= 1
-              P0=r * draw(st.sampled_from([1.0, 100.0, 1e4])),          # P0/R <= 16384
-              stable_count=draw(st.integers(1, 6)),
-              lockout_n=draw(st.sampled_from([0, 1, 2, 3, 8])),
-              motion_count=draw(st.integers(1, 4)))
+    counts = dict(window=draw(st.integers(3, 32)), stable_count=draw(st.integers(1, 6)),
+                  lockout_n=draw(st.sampled_from([0, 1, 2, 3, 8])), motion_count=draw(st.integers(1, 4)))
+    if preset == "auto":                # the default: Q and P0 are ratios to the measured noise
+        ov = dict(counts, Q=draw(st.sampled_from([1e-4, 1e-3, 1e-2, 0.1])),
+                  P0=draw(st.sampled_from([1.0, 10.0, 1e4])), seed_first=draw(st.booleans()))
+    else:
+        r = draw(st.sampled_from([1e-6, 1e-5, 1e-4, 1e-3]))
+        ov = dict(counts, R=r,
+                  Q=r * draw(st.sampled_from([1e-4, 1e-3, 1e-2, 0.1])),     # q = Q/R <= 1
+                  P0=r * draw(st.sampled_from([1.0, 100.0, 1e4])))          # P0/R <= 16384
     seed = draw(st.integers(0, 2**32 - 1))
     n = draw(st.integers(1, 600))
     noise = draw(st.sampled_from([0.0, 3.0, 70.0, 400.0]))
@@ -108,9 +112,32 @@ def test_chain_mcs51_equals_portable_chain(case):
     x = _signal(seed, n, noise, offset)
     out, stable, status = chain.process(x.astype(np.int32))
     h_out, h_stable, h_status = _portable(preset, upk, ov, x)
+    refused = np.flatnonzero(status < 0)
+    if refused.size:
+        # the default's A0 follows the noise, unbounded: an accepted sample
+        # beyond the int16 deviations is refused (sig_chain_mcs51.h), and
+        # every result before it is the portable chain's
+        assert preset == "auto" and set(status[refused]) == {Status.ERR_ARG}
+        n = int(refused[0])
+        out, stable, status, h_out, h_stable, h_status = (
+            a[:n] for a in (out, stable, status, h_out, h_stable, h_status))
     np.testing.assert_array_equal(out, h_out)
     np.testing.assert_array_equal(stable, h_stable)
     np.testing.assert_array_equal(status, h_status)
+
+
+def test_chain_mcs51_runs_the_default_chain():
+    """The default (auto) chain on an HX711-like run: the port follows the
+    noise it measures, bit for bit, and refuses no sample."""
+    case = vectors.chain_case(n=2000, seed=5, preset="auto")
+    assert case.fixed["noise_auto"]
+    out, stable, status = ChainMcs51(case.fixed).process(case.x)
+    h_out, h_stable, h_status = _portable("auto", None, {}, case.x)
+    assert (status >= 0).all()
+    np.testing.assert_array_equal(out, h_out)
+    np.testing.assert_array_equal(stable, h_stable)
+    np.testing.assert_array_equal(status, h_status)
+    assert stable.mean() > 0.5 and (status & 4).any()        # settled, impulses rejected
 
 
 def test_chain_mcs51_state_carries_across_calls():
@@ -150,10 +177,11 @@ def test_gain_table_replays_the_portable_kalman():
 
 
 # ------------------------------------------------------- 8051 chain, s51 ---
-def test_chain_mcs51_in_s51_equals_portable_chain(tmp_path):
+@pytest.mark.parametrize("preset", ["recommended", "auto"])
+def test_chain_mcs51_in_s51_equals_portable_chain(tmp_path, preset):
     require_tool("sdcc")
     require_tool("s51")
-    case = vectors.chain_case(n=700)
+    case = vectors.chain_case(n=700, preset=preset)
     gains = gain_table(case.fixed["q_q30"], case.fixed["p0_q16"])
     vectors.write_chain_mcs51_header(case, gains, tmp_path / "chain_vectors.h")
     x_restart, n_pre = vectors.chain_restart_plan(case)

@@ -200,16 +200,9 @@ static bool params_ok_q(const sig_chain_params_q *p)
 
 static void set_thresholds_q(sig_chain_q *c)
 {
-    int32_t s = c->noise.sigma;                 /* Q24.7, <= 2^27: 6 s fits */
-    int32_t s2, a0;
     if (!c->noise_auto) return;
-    s2 = s << 1;
-    a0 = (s2 + s2 + s2 + 64) >> 7;              /* 6 s, rounded to codes; no multiply */
-    c->limit.a0 = c->noise.count == 0u ? 2 * SIG_CODE_MAX : (a0 > 0 ? a0 : 1);
-    c->motion_band = s + (s >> 1);
-    c->st.step = s >> 2;
-    c->zero_band = s2;
-    c->zero_rate = s >> 4;
+    SIG_CHAIN_THRESHOLDS_Q(c->noise.sigma, c->noise.count == 0u, c->limit.a0, c->motion_band,
+                           c->st.step, c->zero_band, c->zero_rate);
 }
 
 static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)

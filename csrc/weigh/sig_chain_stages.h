@@ -9,6 +9,7 @@
 
 #include "sig_types.h"
 #include "sig_chain.h"
+#include "sig_chain_noise.h"
 
 /* sdcc inlines a static inline function's locals and spill temporaries into
  * the caller's frame: with --stack-auto sig_chain_step_q's frame grew past
@@ -81,32 +82,5 @@ SIG_CHAIN_STAGE void sig_chain_thresholds_f(sig_real s, bool none, sig_real *a0,
     *zrate = SIG_REAL(0.0625) * s;
 }
 
-/* noise_auto, after the stages: whether this sample may update the noise
- * estimate (bool `update`) - not on a motion or re-seed event nor for a
- * window (n samples) after it, not on a rejected sample nor the one after
- * it, not while a motion run is under way (sig_chain.h) - and the escape
- * when updates have been held too long (the estimator's update count
- * `noise_count` drops back to 8: large steps again).  g: the gate's fields
- * (rejected_prev, holdoff, frozen: a sig_chain_gate, or locals so named).
- * A macro: on the 8051 a call, even an inlined one, costs more than the
- * test; the step path, the batch path and the 8051 port share it. */
-#define SIG_CHAIN_NOISE_GATE(g, ret, n, motion_run, noise_count, update) do {           \
-        bool event_ = ((ret) & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED)) != 0;            \
-        bool rejected_ = ((ret) & SIG_WARN_REJECTED) != 0;                               \
-        if (event_) (g).holdoff = (n);                                                   \
-        else if ((g).holdoff > 0u) (g).holdoff--;                                        \
-        if (!event_ && !rejected_ && !(g).rejected_prev && (g).holdoff == 0u             \
-            && (motion_run) == 0u) {                                                     \
-            if ((g).frozen > 0u) (g).frozen--;                                           \
-            (update) = true;                                                             \
-        } else {                                                                         \
-            if ((g).frozen < 2u * SIG_CHAIN_NOISE_FROZEN_MAX) (g).frozen++;              \
-            if ((g).frozen == SIG_CHAIN_NOISE_FROZEN_MAX && (noise_count) > 8u)          \
-                (noise_count) = 8u;                                                      \
-            (update) = (g).frozen >= SIG_CHAIN_NOISE_FROZEN_MAX                          \
-                       || (noise_count) < SIG_NOISE_WARMUP;                              \
-        }                                                                                \
-        (g).rejected_prev = rejected_;                                                   \
-    } while (0)
 
 #endif /* SIG_CHAIN_STAGES_H */

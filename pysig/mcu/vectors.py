@@ -198,8 +198,14 @@ def chain_restart_plan(case: ChainCase) -> tuple:
     restarts window and Kalman (found by running the portable chain)."""
     from ..weigh.chain import Chain
     f = case.fixed
-    band = -(-f["motion_band_q7"] // 128)
-    x = int(case.one_x + min(f["a0"] - 1, 3 * band))
+    a0, band_q7 = f["a0"], f["motion_band_q7"]
+    if f["noise_auto"]:                 # the thresholds the chain has reached by then
+        c = Chain(case.preset, fixed=True)
+        c.process(np.r_[case.x, case.one_x].astype(float))
+        sigma_q7 = int(round(c.sigma * 128))
+        a0, band_q7 = max((6 * sigma_q7 + 64) >> 7, 1), sigma_q7 + (sigma_q7 >> 1)
+    band = -(-band_q7 // 128)
+    x = int(case.one_x + min(a0 - 1, 3 * band))
     seq = np.r_[case.x, case.one_x, np.full(64, x)].astype(float)
     _, _, st = Chain(case.preset, fixed=True).process(seq, flags=True)
     hit = np.flatnonzero(st[len(case.x) + 1:] & 32)

@@ -234,11 +234,51 @@ static int16_t window_step(int16_t y)
     return (int16_t)div_round_any(t, d);
 }
 
+/* ---- the noise followed (noise_auto) ----------------------------------------- */
+/* the thresholds from the measured sigma, as the portable chain sets them,
+ * and their int16 copies for the fast path */
+static void set_thresholds(void)
+{
+    int32_t a0, band, step, zband, zrate;
+    if (!S.noise_auto) return;
+    SIG_CHAIN_THRESHOLDS_Q(CFG.noise.sigma, CFG.noise.count == 0u, a0, band, step, zband, zrate);
+    CFG.a0 = a0;
+    S.a0 = a0 > INT16_MAX ? INT16_MAX : (int16_t)a0;
+    S.motion_band = band;
+    S.motion_band16 = band > INT16_MAX ? INT16_MAX : (int16_t)band;
+    S.stable_step = step;
+    S.stable_step16 = step > INT16_MAX ? INT16_MAX : (int16_t)step;
+    S.zero_band = zband;
+    CFG.zero_rate = zrate;
+}
+
+/* after the stages: the estimator (gate, update), then the thresholds for
+ * the next sample; x the (clamped) sample */
+static sig_status noise_step(int32_t x, sig_status ret)
+{
+    bool update;
+    SIG_CHAIN_NOISE_GATE(S.gate, ret, S.n, S.motion_run, CFG.noise.count, update);
+    (void)sig_noise_step_q(&CFG.noise, x, update);
+    set_thresholds();
+    return CFG.noise.sigma <= SIG_NOISE_FLOOR_Q7 ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
+}
+
+/* the load moved: P back to P0 (the gain sequence from its start); with
+ * noise_auto the estimate also starts again (seeded by the next update) */
+static void kalman_restart(void)
+{
+    S.gain_i = 0u;
+    if (S.noise_auto) {
+        S.kf_seeded = false;
+        S.x = CFG.x0;
+    }
+}
+
 /* ---- init ------------------------------------------------------------------- */
 /* the checks of sig_chain_init_q (sig_chain.c), plus the port's own range */
 static bool params_ok(const sig_chain_params_q *p)
 {
-    return p->a0 > 0 && p->a0 <= SIG_CHAIN_MCS51_A0_MAX
+    return p->a0 > 0 && (p->noise_auto || p->a0 <= SIG_CHAIN_MCS51_A0_MAX)
         && p->window >= 3u && p->window <= SIG_ANTIPULSE_MAX
         && p->q_q30 <= SIG_KALMAN1_Q_MAX && p->p0_q16 <= SIG_KALMAN1_P0_MAX
         && p->stable_step_q7 >= 0 && p->stable_count >= 1u
@@ -253,7 +293,9 @@ sig_status sig_chain_mcs51_init(const sig_chain_params_q *p,
     uint8_t k, d;
     if (p == NULL || !params_ok(p) || gains == NULL || n_gains == 0u) return SIG_ERR_ARG;
     CFG.gains = gains;
-    S.a0 = (int16_t)p->a0;
+    CFG.a0 = p->a0;
+    S.a0 = p->a0 > INT16_MAX ? INT16_MAX : (int16_t)p->a0;
+    S.noise_auto = p->noise_auto;
     S.n = p->window;
     S.stable_step = p->stable_step_q7;
     S.stable_step16 = p->stable_step_q7 > INT16_MAX ? INT16_MAX : (int16_t)p->stable_step_q7;
@@ -313,6 +355,11 @@ sig_status sig_chain_mcs51_reset(void)
     S.tare_pending = false;
     S.stable = false;
     S.has_out = false;
+    S.gate.rejected_prev = false;
+    S.gate.holdoff = 0u;
+    S.gate.frozen = 0u;
+    (void)sig_noise_reset_q(&CFG.noise);
+    set_thresholds();
     update_small();
     return SIG_OK;
 }
@@ -354,7 +401,7 @@ static sig_status limit_step(int32_t x, int16_t *y)
     } else {
         dd = x - (S.base + (int32_t)S.dc);   /* |codes| <= 2^24: no overflow */
     }
-    if (dd > S.a0 || dd < -S.a0) {
+    if (dd > CFG.a0 || dd < -CFG.a0) {
         side = dd > 0 ? (int8_t)1 : (int8_t)-1;
         if (side == S.lock_side) {
             if (S.lock_run < 255u) S.lock_run++;
@@ -376,8 +423,10 @@ static sig_status limit_step(int32_t x, int16_t *y)
         return SIG_WARN_REJECTED;
     }
     if (xd < -DEV_MAX || xd > DEV_MAX) {
-        /* accepted but beyond the deviation range: move the base to Dc */
-        if (!rebase(S.dc)) return SIG_ERR_ARG;
+        /* accepted but beyond the deviation range: move the base to Dc (x
+         * is then dd from it: beyond +-DEV_MAX only when A0 follows the
+         * noise, and then it cannot be held) */
+        if (dd < -DEV_MAX || dd > DEV_MAX || !rebase(S.dc)) return SIG_ERR_ARG;
         xd = x - S.base;
     }
     S.lock_run = 0u;
@@ -396,13 +445,14 @@ static sig_status step_general(int32_t x)
     int16_t y, m;
     uint16_t a;
     uint8_t stab, small;
+    int32_t x_prev = S.x;                  /* the previous output (a restart moves S.x) */
     if (x > SIG_CODE_MAX) { x = SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
     else if (x < -SIG_CODE_MAX) { x = -SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
     st = limit_step(x, &y);
     if (st < 0) return st;                 /* cannot be held: nothing changed */
     ret = (sig_status)(ret | st);
     if ((st & SIG_LIMIT_RESEEDED) != 0) {
-        if (S.motion_band > 0) S.gain_i = 0u;          /* Kalman restart */
+        if (S.motion_band > 0) kalman_restart();
         S.motion_run = 0u;
     }
     m = window_step(y);
@@ -421,13 +471,18 @@ static sig_status step_general(int32_t x)
             S.dc = 0;
             m = window_step(0);
             m7 = codes_to_q7(S.base + m);
+            kalman_restart();
             innov = SUB_SAT(m7, S.x);
-            S.gain_i = 0u;
             S.motion_run = 0u;
             ret = (sig_status)(ret | SIG_CHAIN_MOTION);
         }
     }
     S.dc = m;                              /* the limit's reference: the trimmed mean */
+    if (S.noise_auto && (S.count < S.n || !S.stable)) {
+        /* settling: the window's trimmed mean is the estimate */
+        kalman_restart();
+        innov = SUB_SAT(m7, S.x);
+    }
     /* Kalman */
     if (!S.kf_seeded) {
         S.kf_seeded = true;
@@ -454,6 +509,8 @@ static sig_status step_general(int32_t x)
         S.x = sat_add(S.x, gain_any(innov));
         inc = SUB_SAT(S.x, dz);
     }
+    /* with noise_auto the estimate may have restarted from x0 or the mean */
+    if (S.noise_auto) inc = SUB_SAT(S.x, x_prev);
     /* stability: |x - previous x| <= step */
     if (S.has_prev && ABS_SAT(inc) <= S.stable_step) {
         if (S.stable_run < 255u) S.stable_run++;
@@ -480,7 +537,7 @@ static sig_status step_general(int32_t x)
     S.stable = stab;
     S.has_out = true;
     update_small();
-    return ret;
+    return S.noise_auto ? noise_step(x, ret) : ret;
 }
 
 /* One sample.  The common case runs here, in int16 where the values
@@ -496,6 +553,7 @@ sig_status sig_chain_mcs51_step(int32_t x)
     uint16_t a, u;
     uint8_t motion_run = 0u, stab, i;
     if (S.count != S.n || !S.kf_seeded || !S.small) return step_general(x);
+    if (S.noise_auto && !S.stable) return step_general(x);   /* settling: the Kalman filter restarts */
     if (x > SIG_CODE_MAX || x < -SIG_CODE_MAX) return step_general(x);   /* clamped: the general step */
     t = x - S.base;
     if (t < -DEV_MAX || t > DEV_MAX) return step_general(x);
@@ -577,7 +635,7 @@ sig_status sig_chain_mcs51_step(int32_t x)
             S.offset = S.x;
             S.tare_pending = false;
             S.out = 0;
-            return SIG_CHAIN_TARED;
+            return S.noise_auto ? noise_step(x, SIG_CHAIN_TARED) : SIG_CHAIN_TARED;
         }
         if (S.zero_band > 0 && (t < 0 ? -t : t) <= S.zero_band) {
             /* offset moves towards x (stays within 2^30), out by the same */
@@ -587,5 +645,5 @@ sig_status sig_chain_mcs51_step(int32_t x)
         }
     }
     S.out = t;
-    return SIG_OK;
+    return S.noise_auto ? noise_step(x, SIG_OK) : SIG_OK;
 }

@@ -33,15 +33,21 @@
  * so init accepts A0 <= 8191 codes (a quarter of the int16 range; the
  * bit-exactness tests draw A0 up to it).
  *
- * A further stage (e.g. an on-line noise estimate fed by the window's
- * deviations or the innovation) fits as one more block in
- * sig_chain_mcs51_step between the Kalman update and the stability test,
- * with its state as more fields of sig_chain_mcs51_state; on the host its
- * bit-exactness is checked by the same test against the portable chain. */
+ * The default chain (noise_auto: the noise measured on the fly, every
+ * threshold following it; sig_chain.h) runs too: after each step the gate
+ * and the thresholds of sig_chain_noise.h and the portable estimator
+ * sig_noise_step_q (state in xdata); while the window fills or the output
+ * is not stable the Kalman filter starts again from the trimmed mean (the
+ * general step; the fast path runs on a stable, full window).  A0 then
+ * follows the noise and is not bounded by SIG_CHAIN_MCS51_A0_MAX: an
+ * accepted sample more than 16383 codes from the window's mean cannot be
+ * held as a deviation and the step returns SIG_ERR_ARG, nothing changed
+ * (with 6 sigma within that, only a first difference that large can). */
 #ifndef SIG_CHAIN_MCS51_H
 #define SIG_CHAIN_MCS51_H
 
 #include "sig_chain.h"
+#include "sig_chain_noise.h"
 
 #ifdef __SDCC
 #define SIG_MCS51_DATA  __data
@@ -69,7 +75,7 @@ typedef struct {
     int32_t stable_step, motion_band;     /* Q24.7; motion_band 0 = off */
     uint32_t k;             /* gain of the current step, Q2.30 */
     uint16_t gain_i;        /* next gain index (holds at the table's length) */
-    int16_t a0;             /* codes, <= SIG_CHAIN_MCS51_A0_MAX */
+    int16_t a0;             /* codes, min(A0, 32767): the fast path's int16 test */
     int16_t dc;             /* Dc - base (the limit's reference) */
     int16_t mx, mn;         /* extremes of the held deviations */
     int32_t base7;          /* base in Q24.7 */
@@ -85,12 +91,16 @@ typedef struct {
     uint8_t stable_count, stable_run;
     bool seeded, kf_seeded, has_prev, tare_pending, stable, has_out;
     bool small;             /* |x|, |offset| < 2^30, |base7| < 2^30 - 2^22: the fast path's range */
+    bool noise_auto;        /* thresholds follow the measured noise */
+    sig_chain_gate gate;    /* noise_auto: when the estimator may update */
 } sig_chain_mcs51_state;
 
 /* what the steady state does not touch (xdata) */
 typedef struct {
     int32_t x0;             /* Q24.7, the estimate after a reset */
     int32_t zero_rate;      /* Q24.7 per sample */
+    int32_t a0;             /* codes, the limit's threshold (noise_auto: up to 2 SIG_CODE_MAX) */
+    sig_noise_q noise;      /* noise_auto: the estimator */
     const SIG_MCS51_CODE uint32_t *gains;   /* K_0 .. K_(gain_n - 1) = steady gain */
     uint16_t gain_n;
     uint8_t lockout_n;
@@ -113,7 +123,8 @@ sig_status sig_chain_mcs51_gains(uint32_t q_q30, uint32_t p0_q16, uint32_t *tabl
 /* Initialise the chain from p (as sig_chain_init_q) and the gain table of
  * sig_chain_mcs51_gains for the same q, p0 (kept by address, not copied).
  * SIG_ERR_ARG (nothing changed) for parameters sig_chain_init_q rejects,
- * A0 above SIG_CHAIN_MCS51_A0_MAX, a NULL table or n_gains == 0. */
+ * A0 above SIG_CHAIN_MCS51_A0_MAX (unless noise_auto: A0 follows the
+ * noise), a NULL table or n_gains == 0. */
 sig_status sig_chain_mcs51_init(const sig_chain_params_q *p,
                                 const SIG_MCS51_CODE uint32_t *gains, uint16_t n_gains) SIG_MCS51_REENTRANT;
 sig_status sig_chain_mcs51_reset(void);
