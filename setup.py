@@ -51,6 +51,24 @@ def find_tool(name):
     return path if path and os.path.exists(path) else None
 
 
+def stale_cmake_cache(build_dir, cmake):
+    """True when build_dir's CMake cache was made by another cmake, or names
+    a build tool that no longer exists."""
+    cache = os.path.join(build_dir, "CMakeCache.txt")
+    if not os.path.exists(cache):
+        return False
+    entries = {}
+    with open(cache, encoding="utf-8", errors="replace") as fh:
+        for line in fh:
+            key, sep, value = line.rstrip("\n").partition("=")
+            if sep and ":" in key:
+                entries[key.split(":", 1)[0]] = value
+    command = entries.get("CMAKE_COMMAND", "")
+    make = entries.get("CMAKE_MAKE_PROGRAM", "")
+    return (os.path.realpath(command) != os.path.realpath(cmake)
+            or (os.path.isabs(make) and not os.path.exists(make)))
+
+
 class build_ext_with_core(build_ext):
     """build_ext that first builds sigcore with CMake (the same build a
     firmware project uses) and links every extension against it."""
@@ -75,6 +93,11 @@ class build_ext_with_core(build_ext):
         configure = [cmake, "-S", HERE, "-B", build_dir, f"-DCMAKE_ARCHIVE_OUTPUT_DIRECTORY={lib_dir}",
                      *CORE_CMAKE_OPTIONS]
         ninja = find_tool("ninja")
+        if stale_cmake_cache(build_dir, cmake):
+            # A rebuild after `git pull` or a second `pip wheel` reuses
+            # build/temp*: its cache may name the cmake and ninja of an
+            # isolated build environment pip has since deleted.
+            shutil.rmtree(build_dir)
         # The generator is chosen once per build directory (CMake refuses a change).
         if ninja and not os.path.exists(os.path.join(build_dir, "CMakeCache.txt")):
             configure += ["-G", "Ninja", f"-DCMAKE_MAKE_PROGRAM={ninja}"]

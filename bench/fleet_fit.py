@@ -1,7 +1,7 @@
 """Fleet calibration at production scale: 10^5 devices x 4 chamber
 temperatures x 3 axes, one row per device and temperature (the plateau
-means a production chamber logs), fitted by pysig.tcomp.fleet.fit_fleet
-(every device at once) and written by pysig.tcomp.fleet_report (a model
+means a production chamber logs), fitted by pysig.fleet._fit.fit_fleet
+(every device at once) and written by pysig.fleet._report (a model
 JSON and an NVM image with the device id per device, the summary CSV, the
 plots).
 
@@ -24,8 +24,8 @@ import time
 import numpy as np
 
 from pysig.io import write_json
-from pysig.tcomp.fleet import fit_fleet
-from pysig.tcomp.fleet_report import DEFAULT_K, fleet_plots, screen, write_fleet
+from pysig.fleet._fit import fit_fleet
+from pysig.fleet._report import DEFAULT_K, fleet_plots, screen, write_fleet
 
 TEMPS = (0.0, 25.0, 50.0, 70.0)
 
@@ -63,7 +63,7 @@ def time_fit(dev, temp, y, serials, model, repeat):
 def time_dask(dev, temp, y, serials, model, workers, tmp, partitions):
     import pyarrow as pa
     import pyarrow.parquet as pq
-    from pysig.tcomp.fleet_dask import connect, fit_fleet_dask
+    from pysig.fleet._dask import connect, fit_fleet_dask
     ds = os.path.join(tmp, "dataset")
     if not os.path.isdir(ds):
         bucket = dev % partitions            # partitioned by device: each device in one file

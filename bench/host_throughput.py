@@ -2,7 +2,7 @@
 float64 array (an HX711-like load-cell signal: steps, noise, read glitches).
 
 Measured in one run on the same array: the C chain through Cython (float
-and fixed), each stage alone, the pure-Python reference (on a slice, scaled),
+and fixed), each stage alone,
 filterpy's KalmanFilter on the Kalman stage alone (on a slice, scaled), and
 numpy.copyto of the array (the memory-speed floor).  Each figure is the
 best of --repeat runs (the machine may be shared: best-of filters out other
@@ -22,8 +22,7 @@ import time
 
 import numpy as np
 
-from pysig.weigh import chain as C
-from pysig.reference import chain as R
+import pysig.weigh as C
 
 
 def make_signal(n, seed=0):
@@ -103,7 +102,6 @@ def main(argv=None):
     measure("anti-pulse stage (C, fixed)", lambda: C.AntiPulse(window=12, fixed=True), x, "antipulse_fixed_msps")
     measure("Kalman stage (C, fixed)", lambda: C.Kalman1(Q=1e-7 * upk**2, R=0.05 * upk**2, x0=upk,
                                                         P0=10 * upk**2, fixed=True), x, "kalman_fixed_msps")
-    measure("reference chain (Python, float)", lambda: R.Chain("recommended"), part, "reference_msps")
     t, c = best_time(lambda: filterpy_kalman(part), 1)
     rows.append(("filterpy KalmanFilter (Kalman stage)", "filterpy_kalman_msps", part.size, t, msps(part.size, t),
                  msps(part.size, c)))

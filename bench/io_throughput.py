@@ -7,7 +7,7 @@ process, timed from its start to its exit, peak memory the process's own
 VmHWM (peak resident set, read from /proc/self/status as it exits):
 
 * floor: pyarrow.csv.read_csv of the file (counts as float64), the chain
-  (pysig.weigh.chain.Chain, the C core) over the counts column, pyarrow.csv.write_csv
+  (pysig.weigh.Chain, the C core) over the counts column, pyarrow.csv.write_csv
   of the input columns plus `filtered` and `stable`, numpy and arrow
   exchanging buffers (pyarrow's pa.array/to_numpy would import pandas): what
   the job costs with nothing of pysig's checks or streaming;
@@ -42,7 +42,7 @@ from pysig.io import write_json
 FLOOR = """
 import sys
 import numpy as np, pyarrow as pa, pyarrow.csv as pcsv
-from pysig.weigh.chain import Chain
+from pysig.weigh import Chain
 t = pcsv.read_csv(sys.argv[1], convert_options=pcsv.ConvertOptions(column_types={"counts": pa.float64()}))
 c = t.column("counts").combine_chunks()
 x = np.frombuffer(c.buffers()[1], dtype=np.float64, count=len(c), offset=c.offset * 8)

@@ -25,7 +25,7 @@ profile.
 Every row is built from source, run in mspdebug 0.22 `sim` / ucsim s51, and
 its outputs are read back and checked against the host C (Cython) before the
 row is printed: a wrong build cannot produce a number here.  The rows are
-built by pysig.mcu.cost_tables; this script prints them and writes the JSON.
+built by lab.mcu.cost_tables; this script prints them and writes the JSON.
 """
 from __future__ import annotations
 
@@ -33,8 +33,8 @@ import argparse
 import json
 from pathlib import Path
 
-from pysig.mcu import runner, vectors
-from pysig.mcu.cost_tables import (HARNESS, I_ACTIVE_A, IMAGES, MCLK_HZ, TCOMP_SRC, WHAT_3000_TAKES,
+from lab.mcu import runner, vectors
+from lab.mcu.cost_tables import (HARNESS, I_ACTIVE_A, IMAGES, MCLK_HZ, TCOMP_SRC, WHAT_3000_TAKES,
                                    chain_ops, chain_row_mcs51, chain_row_mcs51_port,
                                    chain_rows_msp430, estimator_cost, table1b, tcomp16_row,
                                    tcomp_fast_row, tcomp_ops, tcomp_row, tcomp_row_mcs51)
@@ -86,7 +86,7 @@ def main(argv=None):
                      "msp430_sim": "mspdebug 0.22 sim, classic MSP430 cycle table",
                      "msp430_helpers": "bench/mcu/msp430 (rt_hwmul.c with MPY_BASE=0x0130 for hw)",
                      "mcs51_sim": "ucsim s51 0.6.4 -t C52 (12T); 1T estimate = opcode histogram "
-                                  "x STC-Y5 published clocks (pysig/mcu/mcs51_timing.py)"},
+                                  "x STC-Y5 published clocks (bench/lab/mcu/mcs51_timing.py)"},
             "table1": t1, "table1b_table_lookup": t1b, "table2": t2, "mcs51_tcomp": t3,
             "targets": checks,
             "experiment_tcomp_fast": experiment, "profiles": profiles}, indent=1))

@@ -7,8 +7,8 @@ project's simulated chamber.
 For each dataset, axis, family and size: cv_rms (blocked cross-validation
 over temperature), fit_rms (the deployed fixed-point model as the C computes
 it), data_bytes, and on the MSP430F5510 simulator text_bytes, cycles and
-energy_uj; the columns are defined in pysig.tcomp.pareto (rows) and
-pysig.mcu.model_cost (MSP430 figures).  Every MCU result is read back from
+energy_uj; the columns are defined in lab.studies.pareto (rows) and
+lab.mcu.model_cost (MSP430 figures).  Every MCU result is read back from
 the simulator and compared with the host C bit for bit; a mismatch stops the
 bench.
 
@@ -24,7 +24,7 @@ LSB).  Its size is the grid's own knot count (the requested count rounded up
 to the next power-of-two spacing).
 
 Datasets: the MPU-6000 gyro offset curve of ../shared/data (MatrixPilot,
-GPL: read from there, never bundled) and pysig.sim.chamber's default run
+GPL: read from there, never bundled) and pysig.sim._chamber's default run
 (the magnetometer paper's 0/25/50/70 °C steps) averaged into 0.25 °C bins."""
 from __future__ import annotations
 
@@ -36,10 +36,10 @@ from pathlib import Path
 
 from pysig.errors import PysigError
 from pysig.io import atomic_output
-from pysig.mcu import model_cost
-from pysig.mcu.runner import McuError
-from pysig.tcomp.model_select import DEFAULT_BLOCKS, PAPER_ORDER
-from pysig.tcomp.pareto import (POLY_ORDERS, PWL_KNOTS, cheapest_within, datasets, model_name,
+from lab.mcu import model_cost
+from lab.mcu.runner import McuError
+from pysig.tcomp._cross_validation import DEFAULT_BLOCKS, PAPER_ORDER
+from lab.studies.pareto import (POLY_ORDERS, PWL_KNOTS, cheapest_within, datasets, model_name,
                                 pareto_front, run_dataset, summarise)
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -23,7 +23,7 @@ import os
 from pathlib import Path
 
 
-from pysig.weigh import recording
+from pysig.weigh import _recording as recording
 from pysig.io import atomic_output
 
 HERE = Path(__file__).resolve().parent

@@ -2,12 +2,12 @@
 undeclared effect (does it name the effect, by how much does the RMS fall),
 on clean data (how many seeds get something added), and on every real
 recording in ../shared/data (what it found, RMS before and after).  The
-cases are pysig.refine.study; this script runs, prints and writes them.
+cases are lab.studies.refine_study; this script runs, prints and writes them.
 
     python bench/refine_table.py --json bench/results/refine_table.json
 
 Clean data is measured on three generators (the rotating-field synthetic
-run of pysig/sim/refine_cases.py, the chamber simulator, the load-cell
+run of bench/lab/studies/refine_cases.py, the chamber simulator, the load-cell
 simulator), --clean-seeds seeds each; CI runs 20 seeds of the first only.
 """
 import argparse
@@ -17,8 +17,8 @@ import sys
 import time
 
 from pysig.io import atomic_output
-from pysig.refine.loop import refine
-from pysig.refine.study import clean_cases, injected_cases, real_cases, row
+from pysig.refine._loop import refine
+from lab.studies.refine_study import clean_cases, injected_cases, real_cases, row
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "..", "shared", "data")

@@ -1,7 +1,7 @@
 """Model choice on every real temperature curve and the simulated chamber:
-`pysig fit --model auto` (pysig.tcomp.tmodel.fit_model) per curve, with the
+`pysig fit --model auto` (pysig.tcomp._calibration.fit_model) per curve, with the
 chosen family and size, its blocked-CV RMS, the best CV RMS of any family
-and size, the per-axis MCU cost (pysig.tcomp.cost: MSP430F5510 cycles and
+and size, the per-axis MCU cost (pysig.tcomp._cost: MSP430F5510 cycles and
 data bytes from bench/model_pareto.py), the fixed-point error, and whether
 the image -> C loader -> sig_tmodel_apply path equals `apply --fixed`.
 
@@ -20,8 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from pysig.io import read_csv
-from pysig.tcomp import cost, tmodel
-from pysig.tcomp.tempcode import CELSIUS, raw_code
+from pysig.tcomp import _cost as cost, _calibration as tmodel
+from pysig.tcomp._tempcode import CELSIUS, raw_code
 
 
 def curves(data):

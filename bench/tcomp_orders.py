@@ -1,10 +1,10 @@
 """Per-order table of the temperature compensation (the magnetometer
-paper's Table 3, computed by pysig.tcomp.orders_study): for polynomial
+paper's Table 3, computed by lab.studies.orders_study): for polynomial
 orders 1-6, the error after correction on held-out temperatures
-(leave-one-temperature-out, pysig.tcomp.fit) as RMS, max |error| and
+(leave-one-temperature-out, pysig.tcomp._poly_fit) as RMS, max |error| and
 variance, on
 
-* simulated chamber data (pysig.sim.chamber, the magnetometer paper's 0/25/50/70 °C steps,
+* simulated chamber data (pysig.sim._chamber, the magnetometer paper's 0/25/50/70 °C steps,
   several seeds; and a ramp profile), with the conditioning of the magnetometer paper's
   normal equations next to the scaled fit and the measured fixed-point error;
 * every recording in ../shared/data that has a temperature column.
@@ -16,7 +16,7 @@ import json
 import time
 from pathlib import Path
 
-from pysig.tcomp.orders_study import recordings, simulated
+from lab.studies.orders_study import recordings, simulated
 
 ROOT = Path(__file__).resolve().parent.parent
 DATA = ROOT.parent / "shared" / "data"

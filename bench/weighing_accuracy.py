@@ -4,13 +4,13 @@ then measure settling after a load change of the motion-aware chain.
     python bench/weighing_accuracy.py --json weighing.json [--seeds 25]
 
 The experiment (cell, calibration, disturbances, configurations, settling
-criterion) is pysig.sim.weighing_accuracy; its docstring states the setup.
+criterion) is lab.studies.weighing_accuracy; its docstring states the setup.
 This script prints its figures as tables and writes them as JSON."""
 import argparse
 import json
 
 from pysig.io import atomic_output
-from pysig.sim.weighing_accuracy import run
+from lab.studies.weighing_accuracy import run
 
 NAMES = ("raw", "kalman", "chain", "chain_fixed", "adaptive", "adaptive_fixed", "adaptive_preset",
          "recommended", "recommended_hx711_R")

@@ -60,9 +60,9 @@ from pathlib import Path
 import numpy as np
 
 from pysig.io import atomic_output
-from pysig.weigh import recording
-from pysig.weigh.chain import Chain
-from pysig.weigh.scale import settle_index
+from pysig.weigh import _recording as recording
+from pysig.weigh import Chain
+from pysig.weigh._calibration import settle_index
 
 HERE = Path(__file__).resolve().parent
 SHARED = HERE.parent.parent / "shared" / "data" / "hx711_steps_10hz" / "hx711_steps_10hz.csv"

@@ -3,6 +3,9 @@
 Every error pysig raises for bad input derives from PysigError, and the CLI
 maps each class to its own exit status (see pysig/cli/__init__.py)."""
 
+__all__ = ["PysigError", "InputFileError", "NonFiniteError", "InsufficientDataError", "SaturationError",
+           "ModelFileError", "RangeError", "OutputFileError"]
+
 
 class PysigError(Exception):
     """Base class of every error pysig raises on purpose."""

@@ -10,6 +10,8 @@ row is row 2; a Parquet file has no header row, so its first row is row 1.
 Output is written to a temporary file beside the target and renamed into
 place, so a failure never leaves a partial file (see `atomic_path`).
 Streaming (bounded memory, chunk by chunk) is in pysig.io_stream."""
+
+__all__ = ["read_csv", "read_table", "read_header", "write_csv", "read_json", "write_json", "atomic_output", "atomic_path", "check_time_column", "check_finite", "numeric_column", "from_numpy", "to_table", "row_label", "is_parquet"]
 import csv
 import json
 import os

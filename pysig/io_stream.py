@@ -8,6 +8,8 @@ block (pyarrow's streaming reader); a column whose later rows no longer fit
 that type is an InputFileError naming the column and the rows where it
 changed.  The writer renames its temporary file over the target only when
 every chunk was written (pysig.io.atomic_path)."""
+
+__all__ = ["iter_batches", "table_sink", "progress"]
 import sys
 from contextlib import contextmanager
 

@@ -7,6 +7,8 @@ keeps the Vandermonde matrix well conditioned, and solves it with numpy's
 SVD-based least squares.  `fit_normal_equations` is the textbook form
 (C^T C a = C^T y) of the magnetometer paper, kept to show how much worse it
 conditions."""
+
+__all__ = ["PolyFit", "fit_poly", "fit_linear_model", "fit_normal_equations", "center_scale", "finite_pairs"]
 from dataclasses import dataclass
 
 import numpy as np

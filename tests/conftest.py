@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from hypothesis import strategies as st
 
-from pysig.mcu.runner import CSRC, CSRC_INCLUDE, c_source, c_sources  # noqa: F401  (for the tests)
+from lab.mcu.runner import CSRC, CSRC_INCLUDE, c_source, c_sources  # noqa: F401  (for the tests)
 
 ROOT = Path(__file__).resolve().parent.parent
 SHARED_DATA = Path(os.environ.get("PYSIG_SHARED_DATA", ROOT.parent / "shared" / "data"))

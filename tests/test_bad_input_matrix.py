@@ -460,7 +460,7 @@ def test_filter_float_nan_is_an_impulse_not_an_error(tmp_path):
 # ---- Python API ---------------------------------------------------------------
 
 def test_api_fit_tcomp():
-    from pysig.tcomp.fit import fit_tcomp
+    from pysig.tcomp._poly_fit import fit_tcomp
     t = np.repeat([0.0, 25.0, 50.0], 5)
     x = 2.0 * t
     with pytest.raises(InsufficientDataError, match="distinct temperatures"):
@@ -484,7 +484,7 @@ def _without_checksum(text):
 
 
 def test_api_calibrate_scale():
-    from pysig.weigh.scale import calibrate
+    from pysig.weigh._calibration import calibrate
     masses = np.array([0.0, 1.0, 2.0, 5.0])
     with pytest.raises(SaturationError, match="reading 3: -8388608 is the 24-bit converter's rail"):
         calibrate([-8000.0, 12000.0, 32000.0, -8388608.0], masses)
@@ -496,7 +496,7 @@ def test_api_model_load(model_json, tmp_path):
     """(A flipped digit is the CLI cases' and the hypothesis test's job.)
     A file without its checksum is refused (docs/bad-input.md); a
     reformatted one with the same values still loads."""
-    from pysig.tcomp import model as tmodel
+    from pysig.tcomp import _poly_model as tmodel
     good = tmodel.load(model_json)
     text = model_json.read_text()
     for name, bad in [("trunc", text[:100]), ("version", _wrong_version(text)),
@@ -524,7 +524,7 @@ def test_api_model_json_any_bit_flip_is_caught(model_json, tmp_path, data, _):
     """A model file with one flipped bit either fails to load with
     ModelFileError or loads as exactly the same model (the flip hit
     something without meaning); never as a different model."""
-    from pysig.tcomp import model as tmodel
+    from pysig.tcomp import _poly_model as tmodel
     raw = model_json.read_bytes()
     bit = data.draw(st.integers(0, len(raw) * 8 - 1), label="bit")
     bad = bytearray(raw)
@@ -540,15 +540,15 @@ def test_api_model_json_any_bit_flip_is_caught(model_json, tmp_path, data, _):
 
 @pytest.fixture(scope="module")
 def model_image(model_json):
-    from pysig.tcomp import model as tmodel
-    from pysig.store.image import model_image as build
+    from pysig.tcomp import _poly_model as tmodel
+    from pysig.store._image import model_image as build
     return build(tmodel.load(model_json), sequence=7)
 
 
 def test_api_image_every_truncation_is_caught(model_image):
     """Python reader and C loader (through Cython) reject every prefix."""
     from pysig.tcomp._tcomp import TcompQ
-    from pysig.store.image import read_image
+    from pysig.store._image import read_image
     for n in range(len(model_image)):
         with pytest.raises(ModelFileError):
             read_image(model_image[:n])
@@ -561,7 +561,7 @@ def test_api_image_every_truncation_is_caught(model_image):
 @given(data=st.data())
 def test_api_image_any_bit_flip_is_caught(model_image, data):
     from pysig.tcomp._tcomp import TcompQ
-    from pysig.store.image import read_image
+    from pysig.store._image import read_image
     bit = data.draw(st.integers(0, len(model_image) * 8 - 1), label="bit")
     bad = bytearray(model_image)
     bad[bit // 8] ^= 1 << (bit % 8)
@@ -572,7 +572,7 @@ def test_api_image_any_bit_flip_is_caught(model_image, data):
 
 
 def test_api_pwl_table():
-    from pysig.tcomp.pwl import fit_pwl
+    from pysig.tcomp._table_fit import fit_pwl
     t = np.linspace(0, 40, 50)
     y = np.sin(t / 7)
     with pytest.raises(RangeError, match="knots"):
@@ -584,7 +584,7 @@ def test_api_pwl_table():
 
 
 def test_api_model_select_curve():
-    from pysig.tcomp.model_select import check_size, tidy_curve
+    from pysig.tcomp._cross_validation import check_size, tidy_curve
     with pytest.raises(InputFileError, match="data row 3"):
         tidy_curve([1.0, 2.0, 1.5, 3.0], [0.0, 1.0, 2.0, 3.0], ["x"])
     with pytest.raises(NonFiniteError, match="data row 2"):
@@ -599,7 +599,7 @@ def test_api_model_select_curve():
 
 
 def test_api_chain_nonfinite():
-    from pysig.weigh.chain import Chain
+    from pysig.weigh import Chain
     x = np.full(40, 1000.0)
     x[5], x[9] = np.nan, np.inf
     filtered, stable = Chain("paper", units_per_kg=1000.0).process(x)
@@ -625,7 +625,7 @@ def test_api_chain_arbitrary_parameters(params, fixed, units, _):
     """Any parameter values: the chain is built or RangeError says why
     (never another exception); a built chain turns finite samples into
     finite outputs."""
-    from pysig.weigh.chain import Chain
+    from pysig.weigh import Chain
     try:
         chain = Chain("recommended", fixed=fixed, units_per_kg=units, **params)
     except RangeError:

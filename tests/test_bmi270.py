@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from conftest import require_shared_data
-from pysig.tcomp import fit
+from pysig.tcomp import _poly_fit as fit
 from pysig.cli import main
 from pysig.errors import InsufficientDataError
 from pysig.io import read_csv

@@ -14,7 +14,7 @@ from conftest import require_shared_data
 from pysig.cli import main
 from pysig.errors import InsufficientDataError, RangeError
 from pysig.io import read_csv
-from pysig.weigh.scale import load_calibration, plateaus_at_masses
+from pysig.weigh import load_calibration, plateaus_at_masses
 
 HX711 = "hx711_steps_10hz/hx711_steps_10hz.csv"
 KG_PER_10LB = 4.5359237

@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
-from pysig.weigh import chain as C
+import pysig.weigh as C
 from pysig.errors import NonFiniteError, RangeError
-from pysig.reference import chain as R
+from spec import chain as R
 
 RTOL = 1e-9
 SETTINGS = settings(max_examples=120, deadline=None)

@@ -1,9 +1,9 @@
 """The default chain's numbers are written once, in C (sig_chain_params_auto_f /
 sig_chain_params_auto_q, csrc/weigh/sig_chain_auto.c): the library's auto
-preset (pysig.weigh.presets, what Chain() runs) must give the very same
+preset (pysig.weigh._presets, what Chain() runs) must give the very same
 sig_chain_params_* fields, float and fixed."""
 from pysig.weigh._chain import auto_params
-from pysig.weigh.chain import chain_fixed_params, chain_params
+from pysig.weigh import chain_fixed_params, chain_params
 
 # chain_params() names -> sig_chain_params_f fields
 FLOAT_FIELDS = {"A0": "a0", "window": "window", "Q": "q", "R": "r", "P0": "p0", "x0": "x0",

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig.weigh import chain as C
+from pysig.weigh import Chain
 
 SETTINGS = settings(max_examples=150, deadline=None)
 
@@ -67,7 +67,7 @@ def _split(x, cuts):
 @given(dynamic_signals(), auto_kwargs(), st.booleans())
 def test_auto_batch_equals_the_step_loop_split(sig, kw, tare):
     x, cuts = sig
-    stepped, batch = C.Chain(**kw), C.Chain(**kw)
+    stepped, batch = Chain(**kw), Chain(**kw)
     for part in _split(x, cuts):
         o1, s1, st1 = stepped.process(part, flags=True)
         o2, s2 = batch.process(part)
@@ -87,8 +87,8 @@ def test_auto_batch_runs_long_hx711_like_runs():
     n = 100_000
     x = np.repeat(5800 + 10000 * rng.integers(0, 5, n // 150 + 1), 150)[:n] + rng.normal(0, 70, n)
     x[rng.integers(0, n, n // 300)] = -8387000.0
-    o1, s1, _ = C.Chain().process(np.round(x), flags=True)
-    o2, s2 = C.Chain().process(np.round(x))
+    o1, s1, _ = Chain().process(np.round(x), flags=True)
+    o2, s2 = Chain().process(np.round(x))
     np.testing.assert_array_equal(o1, o2)
     np.testing.assert_array_equal(s1, s2)
     assert s2.mean() > 0.5                       # mostly settled: the fast path's steady state

@@ -4,7 +4,7 @@ is checked in both numeric forms (the fixed form on counts)."""
 import numpy as np
 import pytest
 
-from pysig.weigh.chain import CHAIN_MOTION, CHAIN_TARED, LIMIT_RESEEDED, Chain
+from pysig.weigh import CHAIN_MOTION, CHAIN_TARED, LIMIT_RESEEDED, Chain
 
 FS = 10.0                         # samples per second
 COUNTS_PER_KG = 10000.0           # for the fixed form: signal in codes

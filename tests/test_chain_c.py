@@ -8,7 +8,7 @@ import subprocess
 import pytest
 
 from conftest import CSRC_INCLUDE, require_tool
-from pysig.mcu.runner import csrc_sources
+from lab.mcu.runner import csrc_sources
 
 PROGRAM = r"""
 #include <stdio.h>

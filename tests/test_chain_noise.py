@@ -10,9 +10,9 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from pysig.errors import RangeError
-from pysig.reference import chain as R
-from pysig.weigh import chain as C
-from pysig.weigh import presets as P
+from spec import chain as R
+import pysig.weigh as C
+from pysig.weigh import _presets as P
 
 from test_chain import RTOL, both, run_split, signals
 

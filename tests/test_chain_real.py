@@ -14,7 +14,7 @@ import pytest
 from scipy.ndimage import median_filter
 
 from conftest import require_shared_data
-from pysig.weigh.chain import Chain
+from pysig.weigh import Chain
 from pysig.io import read_csv
 
 FS = 10.0

@@ -5,12 +5,12 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from pysig.errors import ModelFileError
-from pysig.reference import device_id as ref
-from pysig.reference import image as ref_image
+from spec import device_id as ref
+from spec import image as ref_image
 from pysig.store._device_id import check_image, device_id
-from pysig.store.device_id import (SIG_ERR_DEVICE, device_section, image_device_status,
+from pysig.store._device import (SIG_ERR_DEVICE, device_section, image_device_status,
                                    require_device)
-from pysig.store.image import SECTION_OFFSET_POLY, build_image
+from pysig.store._image import SECTION_OFFSET_POLY, build_image
 
 
 @settings(max_examples=300, deadline=None)

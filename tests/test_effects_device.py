@@ -1,16 +1,16 @@
 """csrc/refine/sig_effects.c against its Python reference: fixed point bit for bit
 (hypothesis-generated inputs, state carried across calls split at random
 points), float forms within 1e-12 relative of the reference and of the
-float model refine fits with (pysig.refine.effects)."""
+float model refine fits with (pysig.refine._effect_models)."""
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
 from conftest import I16, I32
 from pysig.refine import _effects as C
-from pysig.refine import effects as fx
+from pysig.refine import _effect_models as fx
 from pysig.errors import NonFiniteError, RangeError
-from pysig.reference import effects as R
+from spec import effects as R
 
 SETTINGS = settings(max_examples=150, deadline=None)
 

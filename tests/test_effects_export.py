@@ -5,13 +5,13 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig.refine import device as ed
+from pysig.refine import _device as ed
 from pysig.errors import ModelFileError
-from pysig.tcomp.quant import choose_scaling, quantize_axis
-from pysig.refine.loop import refine
+from pysig.tcomp._quant import choose_scaling, quantize_axis
+from pysig.refine._loop import refine
 
-from pysig.reference import effects as R
-from pysig.sim.refine_cases import chamber_run, fit_data
+from spec import effects as R
+from lab.studies.refine_cases import chamber_run, fit_data
 
 
 def correct_reference(dev, t_centi, y):

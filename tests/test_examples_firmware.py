@@ -1,5 +1,5 @@
 """The example firmware of examples/firmware/ (MSP430F5510 with clang, 8051
-with sdcc) builds warning-free, both through pysig.mcu.runner and through
+with sdcc) builds warning-free, both through lab.mcu.runner and through
 its own Makefile (the recipe a user copies), runs in the simulators
 (mspdebug sim, s51), and leaves in its globals exactly what pysig computes
 on the host from the same calibration: the slot the A/B loader picks (the
@@ -17,11 +17,11 @@ import pytest
 
 from conftest import ROOT, require_shared_data, require_tool
 
-from pysig.mcu import runner
+from lab.mcu import runner
 from pysig.status import Status, Warn
 from pysig.tcomp._tcomp import image_select_slot
 from pysig.tcomp._tcomp16 import Tcomp16Q
-from pysig.weigh.chain import Chain
+from pysig.weigh import Chain
 
 FIRMWARE = ROOT / "examples" / "firmware"
 COMMON = FIRMWARE / "common"

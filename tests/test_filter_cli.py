@@ -7,7 +7,7 @@ import pytest
 
 from conftest import require_shared_data
 from pysig import cli
-from pysig.weigh.chain import Chain
+from pysig.weigh import Chain
 
 HX711 = "hx711_steps_10hz/hx711_steps_10hz.csv"
 

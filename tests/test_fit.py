@@ -1,4 +1,4 @@
-"""Training (pysig/tcomp/fit.py, pysig/tcomp/model.py) and the CLI round trip
+"""Training (pysig/tcomp/_poly_fit.py, pysig/tcomp/_poly_model.py) and the CLI round trip
 fit -> export -> C evaluation (image parsed in C) -> same numbers as Python."""
 import json
 import subprocess
@@ -7,13 +7,14 @@ import numpy as np
 import pytest
 
 from conftest import CSRC_INCLUDE, c_source, require_tool
-from pysig.tcomp import _tcomp, fit, model as tmodel, quant
+from pysig.tcomp import _tcomp
+from pysig.tcomp import _poly_fit as fit, _poly_model as tmodel, _quant as quant
 from pysig import lsq
-from pysig.sim import chamber as sim_chamber
+from pysig.sim import _chamber as sim_chamber
 from pysig.cli import main
 from pysig.errors import InsufficientDataError, ModelFileError, NonFiniteError, RangeError
 from pysig.io import read_csv
-from pysig.reference import tcomp as ref_tcomp
+from spec import tcomp as ref_tcomp
 
 
 @pytest.fixture(scope="module")
@@ -106,7 +107,7 @@ def test_cli_round_trip_fit_export_image_c_evaluation(tmp_path, chamber_csv, cap
     m = tmodel.load(mj)
     c = _tcomp.TcompQ.from_image(img.read_bytes())
     assert c.fields() == m.fixed_fields()
-    assert c.no_overflow                       # pysig.tcomp.quant models take the fast path
+    assert c.no_overflow                       # pysig.tcomp._quant models take the fast path
     d = read_csv(chamber_csv)
     t = quant.to_centi(d["temp"])
     x = np.column_stack([d[k] for k in "xyz"]).astype(np.int16)

@@ -12,9 +12,9 @@ from conftest import require_shared_data
 from pysig.cli import main
 from pysig.errors import InputFileError, InsufficientDataError, RangeError
 from pysig.io import read_csv
-from pysig.sim import chamber as sim_chamber
-from pysig.tcomp import tmodel
-from pysig.tcomp.tempcode import CELSIUS, raw_code
+from pysig.sim import _chamber as sim_chamber
+from pysig.tcomp import _calibration as tmodel
+from pysig.tcomp._tempcode import CELSIUS, raw_code
 
 MPU = "mpu6000_gyro_offset_vs_temp/mpu6000_sn102_gyro_offset.csv"
 GYRO = "gyro_x,gyro_y,gyro_z"
@@ -267,7 +267,7 @@ int main(void) {
     return 0;
 }
 """ % ", ".join(f"{c}u" for c in test_codes))
-    from pysig.mcu.runner import csrc_sources
+    from lab.mcu.runner import csrc_sources
     srcs = [str(f) for f in csrc_sources("sig_tmodel")]
     exe = tmp_path / "prog"
     res = subprocess.run([gcc, "-std=c99", "-Wall", "-Werror", "-I", str(CSRC_INCLUDE), "-I", str(tmp_path),

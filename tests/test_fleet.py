@@ -1,4 +1,4 @@
-"""Fleet calibration: the batched fit equals pysig.tcomp.fit device by
+"""Fleet calibration: the batched fit equals pysig.tcomp._poly_fit device by
 device; the CLI writes a model, an image carrying the serial and a summary
 row per device; bad devices are flagged and the fleet goes on; bad logs are
 named errors and nothing is half-written."""
@@ -14,12 +14,12 @@ from hypothesis import given, settings, strategies as st
 from fleet_cases import fleet_rows, write_fleet_log
 from pysig import cli
 from pysig.errors import InsufficientDataError, RangeError
-from pysig.store.device_id import SIG_ERR_DEVICE, image_device_status
-from pysig.store.image import SECTION_OFFSET_POLY, find_section, parse_offset_poly
-from pysig.tcomp import model as tmodel
-from pysig.tcomp.fit import fit_tcomp
-from pysig.tcomp.fleet import device_groups, fit_fleet
-from pysig.tcomp.fit import temperature_groups
+from pysig.store._device import SIG_ERR_DEVICE, image_device_status
+from pysig.store._image import SECTION_OFFSET_POLY, find_section, parse_offset_poly
+from pysig.tcomp import _poly_model as tmodel
+from pysig.tcomp._poly_fit import fit_tcomp
+from pysig.fleet._fit import device_groups, fit_fleet
+from pysig.tcomp._poly_fit import temperature_groups
 
 
 def _check_equal(serial, temp, y, model, t0=25.0):

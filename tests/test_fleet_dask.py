@@ -8,7 +8,7 @@ pytest.importorskip("distributed")
 from fleet_cases import fleet_rows, write_fleet_log  # noqa: E402
 from pysig import cli  # noqa: E402
 from pysig.errors import InputFileError  # noqa: E402
-from pysig.tcomp.fleet_dask import connect, fit_fleet_dask  # noqa: E402
+from pysig.fleet._dask import connect, fit_fleet_dask  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -26,7 +26,7 @@ def test_dask_equals_local(tmp_path, client, monkeypatch):
     logs = [str(tmp_path / "cold.parquet"), str(tmp_path / "hot.csv")]
     base = ["fleet-fit", *logs, "--device", "serial", "--columns", "x,y,z", "--no-plots"]
     assert cli.main([*base, "-o", str(tmp_path / "local")]) == 0
-    import pysig.tcomp.fleet_dask as fd
+    import pysig.fleet._dask as fd
     monkeypatch.setattr(fd, "connect", lambda *a, **k: _Borrowed(client))
     assert cli.main([*base, "--engine", "dask", "-o", str(tmp_path / "dask")]) == 0
     local = sorted(p.name for p in (tmp_path / "local").iterdir())

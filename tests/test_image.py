@@ -1,4 +1,4 @@
-"""Coefficient image (csrc/store/sig_image.c, sig_crc16.c; pysig/store/image.py): C ==
+"""Coefficient image (csrc/store/sig_image.c, sig_crc16.c; pysig/store/_image.py): C ==
 Python spec on every byte string, generic sections, and the power-cut test
 of the A/B slot storage: cut after every byte and after every programmed
 bit, flip every bit, and the C loader always returns exactly the old or the
@@ -9,11 +9,12 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig.tcomp import _tcomp, fit
-from pysig.store import image
-from pysig.sim import chamber as sim_chamber
+from pysig.tcomp import _tcomp
+from pysig.tcomp import _poly_fit as fit
+from pysig.store import _image as image
+from pysig.sim import _chamber as sim_chamber
 from pysig.errors import ModelFileError
-from pysig.reference import image as ref
+from spec import image as ref
 
 
 def chamber_model(seed, order=2, axes="xyz"):
@@ -212,15 +213,15 @@ def test_offset_section_with_u_shift_above_15_is_refused():
 def test_python_constants_match_the_c_headers():
     import re
     from conftest import CSRC_INCLUDE
-    from pysig.tcomp import quant
-    from pysig.reference import tcomp as rtc
+    from pysig.tcomp import _quant as quant
+    from spec import tcomp as rtc
     hdr = (CSRC_INCLUDE / "sig_image.h").read_text()
     ids = {m.group(1): int(m.group(2), 0) for m in re.finditer(r"#define SIG_SECTION_(\w+)\s+(0x[0-9A-Fa-f]+|\d+)u", hdr)}
     for name, value in ids.items():
         if name != "INVALID":
             assert getattr(image, "SECTION_" + name) == value, name
-    from pysig.store import device_id
-    from pysig.reference import device_id as ref_device_id
+    from pysig.store import _device as device_id
+    from spec import device_id as ref_device_id
     assert device_id.SECTION_DEVICE_ID == ref_device_id.SECTION_DEVICE_ID == ids["DEVICE_ID"]
     assert int(re.search(r"SIG_OFFSET_POLY_FIXED_LEN (\d+)u", hdr).group(1)) == image.OFFSET_POLY_FIXED_LEN
     assert int(re.search(r"SIG_IMAGE_HEADER_LEN\s+(\d+)u", hdr).group(1)) == ref.HEADER_LEN

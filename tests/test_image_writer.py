@@ -1,5 +1,5 @@
-"""The library's coefficient-image writer and reader (pysig.store.image) are
-library code, separate from the executable spec (pysig.reference.image):
+"""The library's coefficient-image writer and reader (pysig.store._image) are
+library code, separate from the executable spec (spec.image):
 they agree with it byte for byte on any sections and sequence, the reader
 accepts exactly what the spec's validation accepts, and the library never
 imports the reference."""
@@ -8,8 +8,8 @@ import sys
 
 from hypothesis import given, settings, strategies as st
 
-from pysig.reference import image as ref
-from pysig.store import image as lib
+from spec import image as ref
+from pysig.store import _image as lib
 
 sections = st.lists(st.tuples(st.integers(1, 0xFFFF), st.binary(max_size=40)), max_size=5)
 
@@ -46,9 +46,9 @@ def test_crc_equals_reference():
 
 
 def test_library_never_imports_the_reference():
-    code = ("import sys, pysig.tcomp.fit, pysig.tcomp.model, pysig.tcomp.pwl, pysig.tcomp.quant, "
-            "pysig.tcomp.model_select, pysig.tcomp.tempcode, pysig.tcomp.tmodel, pysig.store.image, "
+    code = ("import sys, pysig.tcomp._poly_fit, pysig.tcomp._poly_model, pysig.tcomp._table_fit, pysig.tcomp._quant, "
+            "pysig.tcomp._cross_validation, pysig.tcomp._tempcode, pysig.tcomp._calibration, pysig.store._image, "
             "pysig.cli.commands.fit, pysig.cli.commands.export, pysig.cli.commands.apply; "
-            "print([m for m in sys.modules if m.startswith('pysig.reference')])")
+            "print([m for m in sys.modules if m.startswith('spec')])")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]"

@@ -9,7 +9,7 @@ from pysig import cli
 from pysig.errors import NonFiniteError
 from pysig.io import read_csv, write_csv
 from pysig.io_stream import iter_batches, table_sink
-from pysig.sim.loadcell import simulate
+from pysig.sim._loadcell import simulate
 
 
 def _recording(tmp_path, n=6000, seed=0, suffix=".csv"):

@@ -2,8 +2,8 @@
 paths, each proven to compute exactly what the portable C computes.
 
 - csrc/port/mcs51/sig_chain_mcs51.c, the fixed weighing chain for the 8051:
-  the same C compiled for the host (pysig.mcu._chain_mcs51) equals the
-  portable chain (pysig.weigh.chain.Chain(fixed=True)) on hypothesis-drawn
+  the same C compiled for the host (lab.mcu.host_port) equals the
+  portable chain (pysig.weigh.Chain(fixed=True)) on hypothesis-drawn
   parameters and signals, and built with sdcc it runs in s51 with the same
   outputs, stability flags and statuses on a 700-sample weighing run
   (load changes, impulses, a lock-out re-seed, a motion restart).
@@ -20,10 +20,10 @@ from conftest import CSRC_INCLUDE, ROOT, require_tool
 
 from pysig.errors import RangeError
 from pysig.status import Status
-from pysig.mcu import pwl_vectors, runner, tcomp16_vectors, vectors
-from pysig.mcu._chain_mcs51 import ChainMcs51, gain_table
-from pysig.reference.chain import chain_fixed_params, chain_params
-from pysig.weigh.chain import Chain
+from lab.mcu import pwl_vectors, runner, tcomp16_vectors, vectors
+from lab.mcu.host_port import ChainMcs51, gain_table
+from spec.chain import chain_fixed_params, chain_params
+from pysig.weigh import Chain
 
 PORT = ROOT / "csrc" / "port"
 HARNESS = ROOT / "bench" / "mcu" / "harness"
@@ -162,7 +162,7 @@ def test_chain_mcs51_refuses_what_it_cannot_hold():
 def test_gain_table_replays_the_portable_kalman():
     """the table is the gain the portable fixed Kalman uses step by step
     after a (re)start, and its last entry is the value it then holds"""
-    from pysig.weigh.chain import Kalman1
+    from pysig.weigh import Kalman1
     p = chain_params("recommended")
     f = chain_fixed_params(p)
     g = [int(v) for v in gain_table(f["q_q30"], f["p0_q16"])]

@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, require_target_tools
-from pysig.mcu import runner
-from pysig.mcu import vectors
+from lab.mcu import runner
+from lab.mcu import vectors
 
 HARNESS = ROOT / "bench" / "mcu" / "harness"
 TCOMP_SRC = runner.csrc_sources("sig_tcomp")     # + sig_poly, sig_image, sig_crc16
@@ -66,7 +66,7 @@ def _tcomp_model_dicts(case):
 def test_tcomp_fixed_firmware_equals_host_and_reference(target, hwmult, order, tmp_path):
     require_target_tools(target)
     from pysig.tcomp._tcomp import TcompQ
-    from pysig.reference import tcomp as ref
+    from spec import tcomp as ref
     case = vectors.tcomp_case(order)
     vectors.write_tcomp_header(case, tmp_path / "tcomp_vectors.h")
     img = _build(target, TCOMP_SRC, HARNESS / "tcomp_harness.c", [], tmp_path, hwmult,
@@ -95,7 +95,7 @@ def test_tcomp_fixed_firmware_equals_host_and_reference(target, hwmult, order, t
 def test_tcomp_float_firmware_within_tolerance(target, tmp_path):
     require_target_tools(target)
     from pysig.tcomp._tcomp import TcompF
-    from pysig.reference import tcomp as ref
+    from spec import tcomp as ref
     case = vectors.tcomp_case(2)
     vectors.write_tcomp_header(case, tmp_path / "tcomp_vectors.h")
     img = _build(target, TCOMP_SRC, HARNESS / "tcomp_harness.c", ["BENCH_FLOAT"], tmp_path,
@@ -129,8 +129,8 @@ def _chain_reads(img, n, real):
                          ids=["msp430-hw", "msp430-sw", "mcs51"])
 def test_chain_fixed_firmware_equals_host_and_reference(target, hwmult, tmp_path):
     require_target_tools(target)
-    from pysig.weigh.chain import Chain
-    from pysig.reference.chain import Chain as RefChain
+    from pysig.weigh import Chain
+    from spec.chain import Chain as RefChain
     case = vectors.chain_case()
     vectors.write_chain_header(case, tmp_path / "chain_vectors.h")
     img = (_build_chain_mcs51([], tmp_path) if target == "mcs51" else
@@ -147,7 +147,7 @@ def test_chain_fixed_firmware_equals_host_and_reference(target, hwmult, tmp_path
 @pytest.mark.parametrize("target", ["msp430", "mcs51"])
 def test_chain_float_firmware_within_tolerance(target, tmp_path):
     require_target_tools(target)
-    from pysig.weigh.chain import Chain
+    from pysig.weigh import Chain
     case = vectors.chain_case()
     vectors.write_chain_header(case, tmp_path / "chain_vectors.h")
     img = (_build_chain_mcs51(["BENCH_FLOAT"], tmp_path) if target == "mcs51" else

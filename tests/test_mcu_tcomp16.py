@@ -5,7 +5,7 @@ are csrc/port/msp430/sig_port_msp430.h, MAC/MACS on that multiplier; the
 no-multiplier build) and for the 8051 (sdcc --model-large), runs 50
 temperature/reading pairs in the simulators; the
 outputs and statuses read back must equal the host C (Cython) and the Python
-spec bit for bit.  Vectors: pysig/mcu/tcomp16_vectors.py (the int32 rows'
+spec bit for bit.  Vectors: bench/lab/mcu/tcomp16_vectors.py (the int32 rows'
 cases of bench/mcu_cost.py, quantised to the compact form)."""
 import struct
 
@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, require_tool
-from pysig.mcu import runner
-from pysig.mcu import tcomp16_vectors
+from lab.mcu import runner
+from lab.mcu import tcomp16_vectors
 
 HARNESS = ROOT / "bench" / "mcu" / "harness" / "tcomp16_harness.c"
 SRC = runner.csrc_sources("sig_tcomp16")
@@ -37,7 +37,7 @@ def test_tcomp16_firmware_equals_host_and_reference(target, hwmult, order, tmp_p
         require_tool("sdcc")
         require_tool("s51")
     from pysig.tcomp._tcomp16 import Tcomp16Q
-    from pysig.reference import tcomp16 as ref
+    from spec import tcomp16 as ref
     case = tcomp16_vectors.tcomp16_case(order)
     tcomp16_vectors.write_tcomp16_header(case, tmp_path / "tcomp16_vectors.h")
     if target == "msp430" and hwmult == "inline":

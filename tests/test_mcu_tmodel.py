@@ -3,17 +3,18 @@ simulators: an image fitted by `pysig fit --model` (a table on raw uint16
 codes, a polynomial on 0.01 °C), stored as a const array, loaded by
 sig_tmodel_load_image on the MSP430F5510 (clang) and the 8051 (sdcc), applied
 to a batch of codes and readings: the outputs read back equal the host C
-(through Cython) and the reference (pysig.reference.tmodel) bit for bit."""
+(through Cython) and the reference (spec.tmodel) bit for bit."""
 import struct
 
 import numpy as np
 import pytest
 
 from conftest import ROOT, require_target_tools
-from pysig.mcu import runner
-from pysig.reference import tmodel as ref
-from pysig.tcomp import _tmodel, tmodel
-from pysig.tcomp.tempcode import CELSIUS, raw_code
+from lab.mcu import runner
+from spec import tmodel as ref
+from pysig.tcomp import _tmodel
+from pysig.tcomp import _calibration as tmodel
+from pysig.tcomp._tempcode import CELSIUS, raw_code
 
 HARNESS = ROOT / "bench" / "mcu" / "harness"
 SOURCES = runner.csrc_sources("sig_tmodel", "sig_tmodel_image")

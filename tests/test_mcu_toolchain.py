@@ -1,4 +1,4 @@
-"""The MCU pipeline itself (pysig/mcu/runner.py): both toolchains build the
+"""The MCU pipeline itself (bench/lab/mcu/runner.py): both toolchains build the
 recipe's reference functions with warnings as errors, the simulators run them,
 and the results read back equal a host computation bit for bit.  A missing
 hardware multiplier, a wrong MPY_BASE, a missing .data copy or a wrong s51 CPU
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, require_tool
-from pysig.mcu import runner
-from pysig.mcu import vectors
+from lab.mcu import runner
+from lab.mcu import vectors
 
 SELF = ROOT / "bench" / "mcu" / "selftest"
 COEF = [210371, -29930, 806]          # harness.c: 3.21, -0.4567, 0.0123 in Q16.16
@@ -89,7 +89,7 @@ def test_msp430_int32_multiply_helper(hwmult, tmp_path):
     and edge operands: the low 32 bits of the exact product."""
     for t in ("clang-14", "mspdebug"):
         require_tool(t)
-    from pysig.mcu import vectors
+    from lab.mcu import vectors
     rng = np.random.default_rng(5)
     edges = [0, 1, -1, 32767, -32768, 32768, -32769, 65535, -65536, 2**31 - 1, -2**31]
     a = list(rng.integers(-2**31, 2**31, 40)) + list(rng.integers(-32768, 32768, 40)) + edges * 2

@@ -8,7 +8,7 @@ import pytest
 
 from conftest import require_shared_data
 from pysig.errors import InputFileError, InsufficientDataError, NonFiniteError, RangeError
-from pysig.tcomp.model_select import (PAPER_TEMPS, blocked_folds, check_size, choose, cross_validate,
+from pysig.tcomp._cross_validation import (PAPER_TEMPS, blocked_folds, check_size, choose, cross_validate,
                                 four_point_choice, four_point_study, load_curve, paper_points,
                                 poly_fitter, pwl_fitter, score_sizes, tidy_curve)
 

@@ -1,4 +1,4 @@
-"""Error against cost of drift models (pysig.tcomp.pareto, pysig.mcu.model_cost,
+"""Error against cost of drift models (lab.studies.pareto, lab.mcu.model_cost,
 printed by bench/model_pareto.py): rows complete and consistent, the Pareto
 front, energy, and the MSP430 results equal to the host C bit for bit (in the
 simulator) for a polynomial and a table."""
@@ -11,8 +11,8 @@ import pytest
 
 from conftest import ROOT, SHARED_DATA, require_shared_data, require_tool
 from pysig.errors import InputFileError
-from pysig.mcu import model_cost, runner
-from pysig.tcomp import pareto
+from lab.mcu import model_cost, runner
+from lab.studies import pareto
 
 KEYS = {"family", "size", "axis", "cv_rms", "fit_rms", "data_bytes", "text_bytes", "cycles",
         "energy_uj"}
@@ -99,7 +99,7 @@ def test_pwl_table_cycles_do_not_grow_with_size():
     require_tool("clang-14", "clang")
     require_tool("mspdebug")
     temp = np.linspace(0.0, 50.0, 200)
-    from pysig.tcomp.model_select import Curve
+    from pysig.tcomp._cross_validation import Curve
     curve = Curve(temp=temp, values=np.column_stack([np.sin(temp / 7.0) * 300 + k for k in range(3)]),
                   names=("a", "b", "c"))
     small = model_cost.mcu_pwl("test-pwl3", pareto.pwl_models(curve, 3), 3)
@@ -123,8 +123,8 @@ def test_msp430_pwl_bit_exact_on_random_tables_all_branches():
     statuses."""
     require_tool("clang-14", "clang")
     require_tool("mspdebug")
-    from pysig.tcomp.pwl import plan_q16
-    from pysig.reference import pwl as ref
+    from pysig.tcomp._table_fit import plan_q16
+    from spec import pwl as ref
     rng = np.random.default_rng(20261123)
     n = 11
     t_lo, t_hi = -1234, 5678
@@ -156,7 +156,7 @@ def test_msp430_pwl_float_within_tolerance():
     clamping and NaN flagged the same."""
     require_tool("clang-14", "clang")
     require_tool("mspdebug")
-    from pysig.reference import pwl as ref
+    from spec import pwl as ref
     rng = np.random.default_rng(7)
     n = 13
     table = np.float32(rng.uniform(-500.0, 500.0, n))

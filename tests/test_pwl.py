@@ -7,8 +7,8 @@ from hypothesis import given, settings, strategies as st
 
 from pysig.tcomp import _pwl
 from pysig.errors import InsufficientDataError, NonFiniteError, RangeError
-from pysig.tcomp.pwl import fit_pwl, fit_pwl_q16, hat_basis, plan_q16, quantize_values
-from pysig.reference import pwl as ref
+from pysig.tcomp._table_fit import fit_pwl, fit_pwl_q16, hat_basis, plan_q16, quantize_values
+from spec import pwl as ref
 
 int16 = st.integers(-32768, 32767)
 

@@ -9,8 +9,8 @@ from hypothesis import given, settings, strategies as st
 
 from pysig.tcomp import _pwl
 from pysig.errors import ModelFileError, RangeError
-from pysig.store.image import SECTION_OFFSET_POLY, SECTION_PWL_TABLE, build_image
-from pysig.tcomp.pwl import (PwlQ16, fit_pwl_q16, parse_pwl_payload, plan_q16, pwl_image, pwl_payload,
+from pysig.store._image import SECTION_OFFSET_POLY, SECTION_PWL_TABLE, build_image
+from pysig.tcomp._table_fit import (PwlQ16, fit_pwl_q16, parse_pwl_payload, plan_q16, pwl_image, pwl_payload,
                        read_pwl_image)
 
 

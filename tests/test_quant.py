@@ -1,14 +1,15 @@
-"""Automatic fixed-point formats (pysig/tcomp/quant.py): the fixed-point correction
+"""Automatic fixed-point formats (pysig/tcomp/_quant.py): the fixed-point correction
 stays within 0.5 LSB of float64 over the whole calibrated range and the whole
 int16 reading range, and the stated bound is honest."""
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig.tcomp import _tcomp, fit, quant
-from pysig.sim import chamber as sim_chamber
+from pysig.tcomp import _tcomp
+from pysig.tcomp import _poly_fit as fit, _quant as quant
+from pysig.sim import _chamber as sim_chamber
 from pysig.errors import RangeError
-from pysig.reference import tcomp as ref
+from spec import tcomp as ref
 
 READINGS = np.array([-32768, -32767, -20000, -1, 0, 1, 12345, 32766, 32767], dtype=np.int16)
 

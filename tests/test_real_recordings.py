@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 
 from conftest import SHARED_DATA
-from pysig.weigh import chain, recording
+import pysig.weigh as chain
+from pysig.weigh import _recording as recording
 from pysig.errors import InputFileError
-from pysig.reference import chain as ref_chain
+from spec import chain as ref_chain
 
 CONFIGS = recording.CONFIGS + ("recommended_fixed",)
 # Measured with the recommended preset of d67582a: settle_s_max 5.7 s (lc1), 4.0 s (lc2);

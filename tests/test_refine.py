@@ -6,11 +6,11 @@ out-of-sample error."""
 import numpy as np
 import pytest
 
-from pysig.refine import effects as fx
+from pysig.refine import _effect_models as fx
 from pysig.errors import InsufficientDataError
-from pysig.refine.loop import Options, at_search_edge, cv_residual, fold_rows, improvement_p, refine, rms
+from pysig.refine._loop import Options, at_search_edge, cv_residual, fold_rows, improvement_p, refine, rms
 
-from pysig.sim.refine_cases import EFFECTS, chamber_run, fit_data
+from lab.studies.refine_cases import EFFECTS, chamber_run, fit_data
 
 
 def test_clean_data_gets_nothing_in_19_of_20_seeds():

@@ -7,7 +7,7 @@ import numpy as np
 from pysig.cli import main
 from pysig.io import write_csv
 
-from pysig.sim.refine_cases import chamber_run
+from lab.studies.refine_cases import chamber_run
 
 
 def _write(tmp_path, effect, **kw):

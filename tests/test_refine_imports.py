@@ -1,4 +1,4 @@
-"""The refine library never imports the executable spec (pysig.reference):
+"""The refine library never imports the executable spec (spec):
 only tests do, so editing the spec cannot change what ships."""
 import ast
 import pathlib
@@ -32,12 +32,12 @@ def test_no_refine_module_imports_the_reference():
 
 
 def test_running_the_loop_loads_no_reference_of_the_effects():
-    """At run time: the effects' spec (pysig.reference.effects) stays out of
+    """At run time: the effects' spec (spec.effects) stays out of
     a refine session (other areas' modules answer for their own imports)."""
     code = ("import sys, numpy as np\n"
             "from pysig.refine import loop, effects as fx\n"
             "t = np.arange(400.0); T = 20 + 10 * np.sin(t / 60)\n"
             "loop.refine(fx.FitData(y=2 * T + np.random.default_rng(0).standard_normal(400), t=t, T=T))\n"
-            "print('pysig.reference.effects' in sys.modules)\n")
+            "print('spec.effects' in sys.modules)\n")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False", out.stdout

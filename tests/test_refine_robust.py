@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from pysig.io import read_csv
-from pysig.refine import effects as fx
-from pysig.refine import robust
-from pysig.refine.loop import refine
-from pysig.sim.chamber import ChamberParams, simulate as simulate_chamber
-from pysig.sim.refine_cases import loadcell_creep_run
+from pysig.refine import _effect_models as fx
+from pysig.refine import _robust as robust
+from pysig.refine._loop import refine
+from pysig.sim._chamber import ChamberParams, simulate as simulate_chamber
+from lab.studies.refine_cases import loadcell_creep_run
 
 from conftest import require_shared_data
 
@@ -127,7 +127,7 @@ def test_systematic_part_of_white_noise_is_small():
 def test_warm_up_transient_alone_is_named():
     """8 LSB decaying with tau 300 s after power-on, the chamber holding 0 °C
     for the first 300 s; nothing else injected."""
-    from pysig.sim.refine_cases import WARM_UP_TAU_S, chamber_run, fit_data
+    from lab.studies.refine_cases import WARM_UP_TAU_S, chamber_run, fit_data
     res = refine(fit_data(chamber_run("warm_up", seed=12)))
     assert [s.effect for s in res.steps] == ["warm_up"], res.report()["not_added"]
     assert 0.5 * WARM_UP_TAU_S < res.steps[0].params["tau_s"] < 1.5 * WARM_UP_TAU_S

@@ -6,10 +6,10 @@ rotating field in test_refine.py.  The load-cell simulator carries creep and
 nonlinearity."""
 import pytest
 
-from pysig.refine import effects as fx
-from pysig.refine.loop import refine
-from pysig.sim.chamber import ChamberParams, simulate as simulate_chamber
-from pysig.sim.loadcell import simulate as simulate_loadcell
+from pysig.refine import _effect_models as fx
+from pysig.refine._loop import refine
+from pysig.sim._chamber import ChamberParams, simulate as simulate_chamber
+from pysig.sim._loadcell import simulate as simulate_loadcell
 
 CHAMBER = dict(sample_rate_hz=0.2, noise_lsb=2.0, profile="ramp", ramp_cycles=2)
 LOADS = ((0.0, 0.0), (20.0, 5.0), (80.0, 10.0), (150.0, 20.0), (220.0, 10.0),

@@ -1,4 +1,4 @@
-"""csrc/weigh/sig_scale.c (through pysig.weigh._scale) against pysig.reference.scale:
+"""csrc/weigh/sig_scale.c (through pysig.weigh._scale) against spec.scale:
 bit for bit on the fixed path, exactly on the host float path (double,
 same operations), and the fixed image within its quantisation bound of the
 float calibration."""
@@ -8,7 +8,7 @@ from hypothesis import given, settings, strategies as st
 
 from pysig.weigh import _scale
 from pysig.errors import NonFiniteError, RangeError
-from pysig.reference import scale as ref
+from spec import scale as ref
 
 # plain integers plus the edges the C splits on, so hypothesis hits the rails often
 int32s = st.one_of(st.integers(-(1 << 31), (1 << 31) - 1),
@@ -107,10 +107,10 @@ def test_quantize_keeps_precision():
                                          (1e9, 1e-9), (3.0, 1e-20), (0.0, 0.0), (float("nan"), 1.0),
                                          (3e9, 1.0), (0.0, 1e6)])
 def test_library_quantize_equals_the_spec(offset, gain):
-    """The library's scale image (pysig.weigh.scale) is the spec's, refusals included."""
+    """The library's scale image (pysig.weigh._calibration) is the spec's, refusals included."""
     from pysig.errors import RangeError
-    from pysig.reference import scale as ref
-    from pysig.weigh import scale as lib
+    from spec import scale as ref
+    from pysig.weigh import _calibration as lib
     try:
         want = ref.quantize(offset, gain)
     except RangeError as exc:

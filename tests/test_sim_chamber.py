@@ -4,7 +4,7 @@ effect off by default and doing what its parameter says when on."""
 import numpy as np
 import pytest
 
-from pysig.sim import chamber as sc
+from pysig.sim import _chamber as sc
 from pysig.io import read_csv
 
 

@@ -6,7 +6,7 @@ from scipy import stats
 
 from pysig.errors import RangeError
 from pysig.io import read_csv
-from pysig.sim.loadcell import ADC_MAX, ADC_MIN, LoadCellParams, simulate, write_run
+from pysig.sim._loadcell import ADC_MAX, ADC_MIN, LoadCellParams, simulate, write_run
 
 STEPS = ((0.0, 0.0), (10.0, 30.0), (40.0, 0.0))
 

@@ -52,7 +52,7 @@ def test_describe_every_code():
 
 
 def test_reference_spec_constants_equal_the_registry():
-    from pysig.reference import chain, effects, image
+    from spec import chain, effects, image
     codes = header_codes()
     spec = {"OK": chain.OK, "WARN_CLAMPED": chain.WARN_CLAMPED, "WARN_REJECTED": chain.WARN_REJECTED,
             "LIMIT_RESEEDED": chain.LIMIT_RESEEDED, "CHAIN_MOTION": chain.CHAIN_MOTION,

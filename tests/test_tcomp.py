@@ -1,5 +1,5 @@
 """Temperature compensation in C (csrc/tcomp/sig_poly.c, sig_tcomp.c) against the
-pure-Python spec (pysig/reference/tcomp.py): bit for bit on the fixed-point
+pure-Python spec (tests/spec/tcomp.py): bit for bit on the fixed-point
 path for any int16 temperature and reading, within a stated tolerance on the
 float path; clamping is flagged, never silent; bad parameters are refused."""
 import math
@@ -9,9 +9,10 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from conftest import I16, I32, draw_int16_rows
-from pysig.tcomp import _tcomp, quant
+from pysig.tcomp import _tcomp
+from pysig.tcomp import _quant as quant
 from pysig.errors import NonFiniteError, RangeError
-from pysig.reference import tcomp as ref
+from spec import tcomp as ref
 
 
 @settings(max_examples=300, deadline=None)
@@ -51,7 +52,7 @@ def test_horner_f_matches_reference(coef, u):
 @st.composite
 def fixed_models(draw, small=False):
     """Valid fixed models; small=True keeps sum |c| + 2^(q-1) < 2^31, the
-    models pysig.tcomp.quant makes, which take the unsaturated fast path in C."""
+    models pysig.tcomp._quant makes, which take the unsaturated fast path in C."""
     n_axes = draw(st.integers(1, 3))
     order = draw(st.integers(1, 8))
     t_lo = draw(st.integers(-32768, 32766))

@@ -1,6 +1,6 @@
 """Compact temperature compensation (csrc/tcomp/sig_tcomp16.c) against its
-pure-Python spec (pysig/reference/tcomp16.py), bit for bit; the quantiser
-(pysig.tcomp.quant.quantize_compact): its stated error is exact and honest, the
+pure-Python spec (tests/spec/tcomp16.py), bit for bit; the quantiser
+(pysig.tcomp._quant.quantize_compact): its stated error is exact and honest, the
 outputs stay within 0.5 LSB + that error of the float64 model on the chamber
 simulator's data, and models it cannot hold are refused by name."""
 import numpy as np
@@ -8,10 +8,11 @@ import pytest
 from hypothesis import assume, given, settings, strategies as st
 
 from conftest import I16, I32, draw_int16_rows
-from pysig.tcomp import _tcomp16, fit, quant
-from pysig.sim import chamber as sim_chamber
+from pysig.tcomp import _tcomp16
+from pysig.tcomp import _poly_fit as fit, _quant as quant
+from pysig.sim import _chamber as sim_chamber
 from pysig.errors import RangeError
-from pysig.reference import tcomp16 as ref
+from spec import tcomp16 as ref
 
 LEVEL_MAX = 32767 * 65536          # |h * x + add| <= this keeps the next h within int16
 

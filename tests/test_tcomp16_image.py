@@ -1,5 +1,5 @@
 """The compact model in the coefficient image (section 8, SIG_SECTION_COMPACT_POLY):
-writer pysig/store/image.py, spec pysig/reference/image.py (load_compact), C loader
+writer pysig/store/_image.py, spec tests/spec/image.py (load_compact), C loader
 sig_tcomp16_load_image (csrc/store/sig_tcomp16_image.c).  Round trip model ->
 image -> C loader -> apply equals the Python spec bit for bit; every bit flip
 and every truncation is refused with the C model untouched; on mutated
@@ -13,14 +13,15 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from conftest import I16, I32, draw_int16_rows
-from pysig.tcomp import _tcomp16, fit, quant
-from pysig.store import image
-from pysig.sim import chamber as sim_chamber
+from pysig.tcomp import _tcomp16
+from pysig.tcomp import _poly_fit as fit, _quant as quant
+from pysig.store import _image as image
+from pysig.sim import _chamber as sim_chamber
 from pysig.cli import main
 from pysig.errors import InputFileError, ModelFileError, RangeError
 from pysig.io import read_csv
-from pysig.reference import image as ref
-from pysig.reference import tcomp16 as ref16
+from spec import image as ref
+from spec import tcomp16 as ref16
 from test_tcomp16 import compact_models
 
 
@@ -180,7 +181,7 @@ def test_cli_export_compact_then_apply_runs_the_c_loader(tmp_path, fitted, capsy
     src, mj = fitted
     img, out = tmp_path / "m16.bin", tmp_path / "out.csv"
     assert main(["export", str(mj), "--format", "image", "--compact", "--sequence", "4", "-o", str(img)]) == 0
-    from pysig.tcomp import model as tmodel
+    from pysig.tcomp import _poly_model as tmodel
     cm = quant.quantize_compact(tmodel.load(mj))
     assert img.read_bytes() == image.compact_image(cm, sequence=4)
     assert main(["apply", str(src), "--model", str(img), "--temp", "temp", "--columns", "x,y,z",

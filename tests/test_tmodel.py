@@ -1,5 +1,5 @@
 """One C entry point for any model an image holds (sig_tmodel): the C loader
-and evaluator equal the executable spec (pysig.reference.tmodel) bit for bit
+and evaluator equal the executable spec (spec.tmodel) bit for bit
 on generated polynomial, compact and table models, with signed and unsigned
 temperature codes; a failed load leaves the model as it was."""
 import struct
@@ -8,13 +8,14 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from pysig.reference import tmodel as ref
-from pysig.store.image import (SECTION_OFFSET_POLY, SECTION_TEMP_CODE, TCODE_INT16, TCODE_UINT16,
+from spec import tmodel as ref
+from pysig.store._image import (SECTION_OFFSET_POLY, SECTION_TEMP_CODE, TCODE_INT16, TCODE_UINT16,
                                build_image, temp_code_payload)
-from pysig.tcomp import _tmodel, quant
-from pysig.tcomp.pwl import PwlQ16, plan_q16, pwl_payload
-from pysig.store.image import SECTION_PWL_TABLE, compact_poly_payload, SECTION_COMPACT_POLY
-from pysig.tcomp.tempcode import TempCode, raw_code, CELSIUS
+from pysig.tcomp import _tmodel
+from pysig.tcomp import _quant as quant
+from pysig.tcomp._table_fit import PwlQ16, plan_q16, pwl_payload
+from pysig.store._image import SECTION_PWL_TABLE, compact_poly_payload, SECTION_COMPACT_POLY
+from pysig.tcomp._tempcode import TempCode, raw_code, CELSIUS
 
 
 @st.composite
@@ -52,7 +53,7 @@ def table_sections(draw):
 
 
 def _compact_section():
-    from pysig.tcomp import fit
+    from pysig.tcomp import _poly_fit as fit
     t = np.linspace(-10.0, 60.0, 400)
     m = fit.fit_tcomp(t, {"x": 40 * np.sin(t / 20), "y": 0.02 * (t - 20) ** 2}, order=3)
     return SECTION_COMPACT_POLY, compact_poly_payload(quant.quantize_compact(m))

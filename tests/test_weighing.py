@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings, strategies as st
 
-from pysig.weigh import _scale, scale as weighing
+from pysig.weigh import _scale
+from pysig.weigh import _calibration as weighing
 from pysig import lsq
 from pysig.errors import InsufficientDataError, RangeError
-from pysig.sim.loadcell import LoadCellParams, simulate
+from pysig.sim._loadcell import LoadCellParams, simulate
 
 MASSES = np.arange(10.0, 50.1, 5.0)
 

@@ -1,4 +1,4 @@
-"""The weighing-accuracy experiment (pysig.sim.weighing_accuracy, printed by
+"""The weighing-accuracy experiment (lab.studies.weighing_accuracy, printed by
 bench/weighing_accuracy.py) reproduces the weighing paper's direction and
 factors on the simulator, and the motion-aware mode settles fast without
 losing accuracy.  Margins, not exact numbers; 20 seeds as the bench."""
@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from pysig.sim import weighing_accuracy
+from lab.studies import weighing_accuracy
 
 
 @pytest.fixture(scope="module")

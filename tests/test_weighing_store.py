@@ -10,9 +10,9 @@ from conftest import CSRC_INCLUDE, c_source, require_tool
 from pysig.cli import main
 from pysig.errors import ModelFileError
 from pysig.io import write_csv
-from pysig.reference import scale as ref
-from pysig.sim.loadcell import LoadCellParams, simulate
-from pysig.weigh.scale import calibrate, load_calibration
+from spec import scale as ref
+from pysig.sim._loadcell import LoadCellParams, simulate
+from pysig.weigh._calibration import calibrate, load_calibration
 
 MASSES = np.arange(10.0, 50.1, 5.0)
 

@@ -1,5 +1,5 @@
 /* pareto_marks.h - the markers and the measured sequence of the
- * harness_poly.c / harness_pwl.c harnesses (pysig/mcu/model_cost.py sets
+ * harness_poly.c / harness_pwl.c harnesses (bench/lab/mcu/model_cost.py sets
  * its breakpoints on these symbols).  Between bench_start and bench_stop
  * each of the three axes evaluates all N_TEMPS temperatures, one marker
  * between axes; the same loop around a no-op (the harness's run_null)

@@ -11,7 +11,7 @@
  *    is emptied so Dc follows the new level at once.
  *  - motion-aware settling (motion_band > 0; the host presets derive it from
  *    the reading variance R as 4 sigma of the window mean, 4 * sqrt(R / (N - 2)),
- *    and A0 as 6 * sqrt(R): pysig/reference/chain.py): when |m - x| > motion_band for
+ *    and A0 as 6 * sqrt(R): tests/spec/chain.py): when |m - x| > motion_band for
  *    motion_count successive samples, or on a lock-out re-seed, the load
  *    moved: the window is emptied (refilled from the current sample) and the
  *    Kalman P is set back to P0, so the filter restarts as a running mean of

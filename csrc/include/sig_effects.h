@@ -16,7 +16,7 @@
  *
  * Units: every reading-like value (x, contributions, outputs) is an int32 in
  * one caller-chosen fixed unit (LSB, counts, or Q16.16 LSB: whatever the
- * exporter picked, see pysig/refine/device.py); coefficients carry that
+ * exporter picked, see pysig/refine/_device.py); coefficients carry that
  * unit.  Temperatures are int16 0.01 °C as in sig_tcomp.h.
  *
  * Fixed-point arithmetic: 32-bit only (no int64), every product through
@@ -26,7 +26,7 @@
  * Rounding to a coarser unit is round-half-up: floor((v + 2^(n-1)) / 2^n).
  *
  * Float forms (_f) run the same recurrences in sig_real; they are the
- * forms pysig.refine.effects fits with (tolerance, not bits).
+ * forms pysig.refine._effect_models fits with (tolerance, not bits).
  * State lives in caller-owned structs: _init checks and stores parameters
  * (state untouched on error), _reset forgets the history (the next sample
  * primes the state), _step advances one sample.  No malloc, no recursion.

@@ -60,15 +60,15 @@
 #define SIG_SECTION_TEMP_CODE    10u  /* how to read the temperature code: sig_tmodel.h */
 #define SIG_SECTION_EXPERIMENTAL  0x8000u /* 0x8000..0xFFFF: experimental, never assigned */
 
-/* Payload of SIG_SECTION_OFFSET_POLY (written by pysig/store/image.py):
+/* Payload of SIG_SECTION_OFFSET_POLY (written by pysig/store/_image.py):
  *   0  u8  n_axes (1..3)      1  u8 order (1..8)   2  u8 u_shift (0..15)   3  u8 reserved (0)
  *   4  i16 t_lo   6  i16 t_hi   8  i16 t_center   10 i16 t0   12 i16 u_mul
  *   14 per axis: u8 q, then (order + 1) x i32 coefficients, ascending powers of u
  *   length = 14 + n_axes * (1 + 4 * (order + 1)); meaning in sig_tcomp.h. */
 #define SIG_OFFSET_POLY_FIXED_LEN 14u
 
-/* Payload of SIG_SECTION_COMPACT_POLY (written by pysig/store/image.py from a
- * pysig.tcomp.quant.CompactModel):
+/* Payload of SIG_SECTION_COMPACT_POLY (written by pysig/store/_image.py from a
+ * pysig.tcomp._quant.CompactModel):
  *   0  u8  n_axes (1..3)      1  u8 order (1..5)   2  u8 w_shift (0..15)   3  u8 reserved (0)
  *   4  i16 t_lo   6  i16 t_hi
  *   8  per axis: i16 top, then order x i32 add, evaluation order add_(order-1) .. add_0

@@ -74,7 +74,7 @@ sig_status sig_pwl_eval_q16(const sig_pwl_q16 *p, int16_t t, int32_t *out_q16);
  *   2  i16 t_lo   4  i16 t_hi   6  u32 recip        (shared by every axis)
  *   10 per axis: u8 value_frac, then n_knots x i16 entries
  *   length = 10 + n_axes * (1 + 2 * n_knots), little-endian, unaligned.
- * Written by pysig.tcomp.pwl.pwl_payload. */
+ * Written by pysig.tcomp._table_fit.pwl_payload. */
 #define SIG_PWL_MAX_AXES       3u
 #define SIG_PWL_IMAGE_FIXED_LEN 10u
 

@@ -1,6 +1,6 @@
 /* sig_scale.h - apply a stored linear scale calibration: ADC counts -> mass.
  *
- * The calibration is fitted on the host (pysig.weigh.scale.calibrate, least
+ * The calibration is fitted on the host (pysig.weigh._calibration.calibrate, least
  * squares on standard masses) and stored as an offset and a gain; this file
  * applies it, in fixed point for the MCUs and in float.
  *

@@ -3,7 +3,7 @@
  *
  *     out = in - delta(T),   delta(T) = f(T) - f(T0)
  *
- * where f is the least-squares polynomial of order 1..8 fitted by pysig.tcomp.fit
+ * where f is the least-squares polynomial of order 1..8 fitted by pysig.tcomp._poly_fit
  * per axis.  The polynomial is stored in a centred, scaled temperature u in
  * [-1, 1] (well conditioned) with f(T0) already folded into c[0], so one
  * Horner pass per axis gives delta directly.
@@ -21,10 +21,10 @@
  *                no rounding term when u_shift == 0),
  *                int16_t Q0.15; one 16x16->32 product.  The float model uses
  *                exactly u = (T - t_center) * u_mul / 2^(u_shift + 15), so both
- *                forms share one abscissa (pysig.tcomp.quant chooses u_mul, u_shift
+ *                forms share one abscissa (pysig.tcomp._quant chooses u_mul, u_shift
  *                so that |u| <= 32767 over [t_lo, t_hi]).
  *   coefficients int32_t, axis a in Q(q[a]) reading LSB (value = c / 2^q[a]),
- *                ascending powers of u, f(T0) folded into c[0].  pysig.tcomp.quant
+ *                ascending powers of u, f(T0) folded into c[0].  pysig.tcomp._quant
  *                picks q[a] as large as possible with sum |c| < 2^31, so no
  *                partial Horner sum can overflow for |u| <= 1.
  *   delta        int32_t Q(q[a]) from sig_poly_horner_q15.
@@ -35,7 +35,7 @@
  *   of at most 16x16 bits, no division, no int64, no variable 32-bit shift
  *   when q >= 16 (the rounding shifts and scale factors are precomputed by
  *   sig_tcomp_init_q, and a model whose sums cannot overflow skips the
- *   saturation tests: pysig.tcomp.quant always produces such a model).
+ *   saturation tests: pysig.tcomp._quant always produces such a model).
  *
  * ---- Float form (sig_tcomp_f) ------------------------------------------
  *   temperature  sig_real °C; u = (clamp(T) - center) * inv_scale;
@@ -56,7 +56,7 @@
 #define SIG_TCOMP_MAX_ORDER  SIG_POLY_MAX_ORDER   /* 8 */
 #define SIG_TCOMP_T_PER_DEGC 100                  /* temperature unit: 0.01 °C */
 #define SIG_TCOMP_MAX_Q      30u                  /* coefficient fraction bits */
-#define SIG_TCOMP_MAX_U_SHIFT 15u                 /* pysig.tcomp.quant never needs more than 14 */
+#define SIG_TCOMP_MAX_U_SHIFT 15u                 /* pysig.tcomp._quant never needs more than 14 */
 
 typedef struct {
     int32_t coef[SIG_TCOMP_MAX_AXES][SIG_TCOMP_MAX_ORDER + 1u]; /* Q(q[a]) LSB, ascending powers of u */

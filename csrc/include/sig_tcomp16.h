@@ -26,7 +26,7 @@
  *   output       out = sat16(in - corr); SIG_WARN_SATURATED at a rail.
  *   No overflow: init accepts coefficients only when a bound through the
  *   levels (|h[k]| <= 32767, |h*w + add| < 2^31) holds for every v in
- *   range; the hot path then needs no saturation test.  pysig.tcomp.quant
+ *   range; the hot path then needs no saturation test.  pysig.tcomp._quant
  *   (quantize_compact) chooses the coefficients under the same test.
  *   How the products are formed: every level is the high word of a 32-bit
  *   multiply-accumulate, acc + a * b (mod 2^32), the operation of a 16x16
@@ -47,7 +47,7 @@
  * Compared with sig_tcomp_q (int32 coefficients, Q15 abscissa, any slope):
  * this form covers slopes |p_1(v)| < 0.5 LSB per 0.01 °C (50 LSB/°C) and
  * rounds each level to 2^-16 of its unit, so it adds up to ~0.5 * n_levels *
- * (t_hi - t_lo) / 65536 LSB of quantisation error (pysig.tcomp.quant measures the
+ * (t_hi - t_lo) / 65536 LSB of quantisation error (pysig.tcomp._quant measures the
  * exact figure over every temperature of the range).
  */
 #ifndef SIG_TCOMP16_H

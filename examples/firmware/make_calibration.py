@@ -8,7 +8,7 @@ What it writes, all from pysig (the same code `pysig fit` and `pysig export
 * two flash slots of SLOT_BYTES each, const arrays standing for the flash
   regions a firmware reserves for its calibration (erased flash reads 0xFF),
   fitted on the calibration data (by default the simulated thermal chamber,
-  pysig.sim.chamber, seeded: a 3-axis magnetometer; or --input recordings
+  pysig.sim._chamber, seeded: a 3-axis magnetometer; or --input recordings
   with 1 to 3 int16 reading columns): slot A the factory calibration
   (order 1, sequence 1), slot B a later recalibration (--order, default 2,
   sequence 2), both in the compact form (sig_tcomp16: 16x16 products, what
@@ -37,10 +37,10 @@ import numpy as np
 
 from pysig.errors import RangeError
 from pysig.io import atomic_output, read_csv
-from pysig.sim import chamber
-from pysig.store.image import compact_image
-from pysig.tcomp import quant
-from pysig.tcomp.fit import fit_tcomp
+from pysig.sim import _chamber as chamber
+from pysig.store._image import compact_image
+from pysig.tcomp import _quant as quant
+from pysig.tcomp._poly_fit import fit_tcomp
 
 SLOT_BYTES = 128                  # flash reserved per slot: a 3-axis order-5 compact image is 92 bytes
 ERASED = 0xFF

@@ -10,6 +10,7 @@ import pkgutil
 import sys
 
 from . import commands
+from .. import __version__
 from ..errors import PysigError
 
 
@@ -22,6 +23,7 @@ def build_parser(only=None):
     in what it needs (refine loads statsmodels, ~1.5 s), so `pysig filter`
     imports only the filter command."""
     parser = argparse.ArgumentParser(prog="pysig", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"pysig {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in ([only] if only else command_names()):
         module = importlib.import_module(f"{commands.__name__}.{name}")

@@ -1,7 +1,7 @@
 # cython: language_level=3
 """Cython bridge to csrc/tcomp/sig_tcomp16.c: the compact fixed-point temperature
 compensation (int16 multiplicands, 16x16 products) over numpy arrays.  The
-coefficients come from pysig.tcomp.quant.quantize_compact, or from a coefficient
+coefficients come from pysig.tcomp._quant.quantize_compact, or from a coefficient
 image through the firmware's loader (Tcomp16Q.from_image)."""
 import numpy as np
 cimport numpy as cnp
@@ -36,7 +36,7 @@ def _s32(v):
 cdef class Tcomp16Q:
     """The compact model of sig_tcomp16.h (temperature int16 in 0.01 °C, int16
     readings).  Tcomp16Q.from_fields(top, add, t_lo, t_hi, w_shift) or
-    Tcomp16Q.from_compact(pysig.tcomp.quant.CompactModel)."""
+    Tcomp16Q.from_compact(pysig.tcomp._quant.CompactModel)."""
     cdef sig_tcomp16_q m
 
     @staticmethod

@@ -1,7 +1,7 @@
 # cython: language_level=3, boundscheck=False, wraparound=False
 """The weighing chain of csrc/ (limit, anti-pulse, Kalman, stability, chain)
 as Python classes.  Same names, parameters and results as the pure-Python
-spec in pysig/reference/chain.py; `fixed=True` runs the C fixed-point form.
+spec in tests/spec/chain.py; `fixed=True` runs the C fixed-point form.
 
 process() loops in C without the GIL over a whole float64 array; state is
 carried across calls, so a signal processed in pieces gives the same result
@@ -11,7 +11,7 @@ cimport numpy as cnp
 from libc.math cimport NAN, sqrt
 
 from ..errors import NonFiniteError, RangeError
-from . import presets as _p
+from . import _presets as _p
 
 cnp.import_array()
 
@@ -51,7 +51,7 @@ def auto_params(fixed=False):
     """The default chain's parameters as the C core's constructors give them
     (sig_chain_params_auto_f / sig_chain_params_auto_q): a dict of the
     sig_chain_params_f / sig_chain_params_q fields.  The auto preset of
-    pysig.weigh.presets must produce the same (tests/test_chain_auto_params.py)."""
+    pysig.weigh._presets must produce the same (tests/test_chain_auto_params.py)."""
     cdef sig_chain_params_f pf
     cdef sig_chain_params_q pq
     if fixed:
@@ -79,7 +79,7 @@ cdef class LimitFilter:
     Parameters
     ----------
     a0 : float
-        The largest accepted |x - Dc|, in signal units (> 0).
+        The largest accepted ``|x - Dc|``, in signal units (> 0).
     lockout_n : int, optional
         0 (the weighing paper's behaviour) or the number of successive
         rejections on one side after which the filter accepts the level
@@ -424,7 +424,7 @@ cdef class StabilityDetector:
 # ---- the noise estimator ------------------------------------------------------
 cdef class NoiseEstimator:
     """The per-sample noise sigma measured on the fly (csrc/include/sig_noise.h):
-    a quantile tracker on |x_k - x_{k-1}| that glitches and steps move by one
+    a quantile tracker on ``|x_k - x_{k-1}|`` that glitches and steps move by one
     small step only.  Fixed: samples are codes, sigma in codes (Q24.7 inside).
 
     Examples
@@ -496,7 +496,7 @@ cdef class Chain:
     preset : str
         "auto" (default): no sensor constant and no unit; the noise sigma is
         measured on the fly and A0, the motion band, the stability step and
-        the zero-tracking band and rate follow it (pysig.weigh.presets).
+        the zero-tracking band and rate follow it (pysig.weigh._presets).
         "paper" reproduces the weighing paper; "recommended" and "adaptive"
         derive their thresholds from a fixed R.
     fixed : bool

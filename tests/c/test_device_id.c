@@ -71,7 +71,7 @@ int main(void)
     CHECK_EQ_I(id.len, SIG_DEVICE_ID_MAX_LEN);
     CHECK(memcmp(id.id + 4, long_a + strlen(long_a) - 12u, 12u) == 0);
 
-    /* FNV-1a 32 of 17 x 'a' is 0x1509BA9C (check value from pysig.reference.device_id), little-endian */
+    /* FNV-1a 32 of 17 x 'a' is 0x1509BA9C (check value from spec.device_id), little-endian */
     {
         uint8_t seventeen[17];
         memset(seventeen, 'a', sizeof seventeen);

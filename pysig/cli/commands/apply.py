@@ -13,8 +13,7 @@ the column's integer codes to the firmware as they are, and --value-scale
 says what multiplies a reading into the firmware's int16 code."""
 import numpy as np
 
-from ...tcomp import tmodel
-from ...tcomp.tempcode import CELSIUS, TempCode
+from ...tcomp import CELSIUS, TempCode, apply, apply_image, load, load_image
 from ...errors import InputFileError
 from ...io import read_csv, write_csv
 from ...status import Status, Warn
@@ -49,8 +48,7 @@ def run(args):
     if image:
         with open(args.model, "rb") as fh:
             data_img = fh.read()
-        from ...tcomp._tmodel import TModel
-        c = TModel.from_image(data_img, where=args.model)      # the firmware's loader judges it first
+        c = load_image(data_img, where=args.model)      # the firmware's loader judges it first
         if not (args.temp and args.columns):
             raise InputFileError(f"apply: {args.model} is a coefficient image, which names no columns: "
                                  f"give --temp and --columns")
@@ -62,7 +60,7 @@ def run(args):
         if args.temp_unit is not None or args.value_scale is not None:
             raise InputFileError("apply: --temp-unit and --value-scale are for images; a JSON model "
                                  "carries its own")
-        model = tmodel.load(args.model)
+        model = load(args.model)
         temp_col = args.temp or model.temp_column
         axes = [x.strip() for x in args.columns.split(",")] if args.columns else model.axes
         if len(axes) != len(model.axes):
@@ -74,11 +72,11 @@ def run(args):
                              f"(columns are: {', '.join(data)})")
     readings = [data[a] for a in axes]
     if image:
-        corrected, clamped = tmodel.apply_image(data_img, data[temp_col], readings, temp_code,
-                                                args.value_scale or 1.0, where=args.model)
+        corrected, clamped = apply_image(data_img, data[temp_col], readings, temp_code,
+                                         args.value_scale or 1.0, where=args.model)
         how = f"the C loader ({c.family} model, {c.code_kind} temperature code)"
     else:
-        corrected, clamped = tmodel.apply(model, data[temp_col], readings, fixed=args.fixed)
+        corrected, clamped = apply(model, data[temp_col], readings, fixed=args.fixed)
         how = f"{model.family} model, {'fixed-point C' if args.fixed else 'float64'}"
     out = dict(data)
     for name, values in zip(axes, corrected):

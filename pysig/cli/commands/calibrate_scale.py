@@ -9,7 +9,7 @@ solver as the temperature fit.  Two inputs:
   mass);
 - a raw log of one column (--column) during which the masses were put on
   (--masses, in the order the loads first appear): the still loads are found
-  in the log itself (pysig.weigh.scale.plateaus_at_masses, the plateau
+  in the log itself (pysig.weigh.plateaus_at_masses, the plateau
   finder of `pysig demo`), each load's plateaus are matched to its mass, and
   the line is fitted through their median readings.  The rate comes from a
   time column in seconds (--time) or --rate.
@@ -23,7 +23,7 @@ import numpy as np
 
 from ...errors import InputFileError, InsufficientDataError, RangeError, SaturationError
 from ...io import atomic_output, check_time_column, read_csv
-from ...weigh.scale import calibrate, first_saturated, plateaus_at_masses, saturated_count
+from ...weigh import calibrate, first_saturated, plateaus_at_masses, saturated_count
 
 
 def _masses(text):

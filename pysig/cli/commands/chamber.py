@@ -1,11 +1,11 @@
 """`pysig chamber -o chamber.csv [--seed N] [--profile steps|ramp] [--lag S] [--hysteresis LSB]`
 
 Simulate a thermal-chamber run of a QMC5883L-like magnetometer
-(pysig.sim.chamber): CSV t, temp, x, y, z, ref_x, ref_y, ref_z, ready for
+(pysig.sim._chamber): CSV t, temp, x, y, z, ref_x, ref_y, ref_z, ready for
 `pysig fit chamber.csv --columns x,y,z`."""
 import math
 
-from ...sim import chamber as sim_chamber
+from ...sim import ChamberParams, write_chamber_run
 from ...errors import RangeError
 
 
@@ -29,7 +29,7 @@ def run(args):
                                   ("--hysteresis", args.hysteresis, "finite", True)):
         if not (math.isfinite(value) and ok):
             raise RangeError(f"{name} must be {rule}, got {value}")
-    params = sim_chamber.ChamberParams(seed=args.seed, profile=args.profile, dwell_s=args.dwell,
+    params = ChamberParams(seed=args.seed, profile=args.profile, dwell_s=args.dwell,
                                        thermal_lag_s=args.lag, hysteresis_lsb=(args.hysteresis,) * 3)
-    data = sim_chamber.write(args.output, params)
+    data = write_chamber_run(args.output, params)
     print(f"wrote {args.output}: {data['t'].size} samples, {data['temp'].min():.2f}..{data['temp'].max():.2f} °C")

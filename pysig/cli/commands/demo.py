@@ -9,7 +9,8 @@ chain, auto (the C code, through Cython), prints a table and writes a picture in
 current directory), printing its path."""
 import os
 
-from ...weigh import recording
+from ...weigh import (RECORDING_CHANNELS, analyse_recording, bundled_recording, load_recording,
+                      plot_recording)
 from ...errors import InputFileError
 
 COLUMNS = ("config", "glitches passed", "plateaus missed", "settle max (s)",
@@ -21,7 +22,7 @@ def register(sub):
                        description=__doc__)
     p.add_argument("--out", metavar="DIR", default=".",
                    help="directory for the picture (default: the current directory)")
-    p.add_argument("--channel", choices=recording.LOADED, default="lc1")
+    p.add_argument("--channel", choices=RECORDING_CHANNELS, default="lc1")
     p.add_argument("--csv", help="another copy of hx711_steps_10hz.csv (default: the bundled one)")
     p.set_defaults(func=run)
 
@@ -42,8 +43,8 @@ def _table(rows):
 def demo(path, out_dir, channel):
     if not os.path.isdir(out_dir):
         raise InputFileError(f"--out {out_dir}: not a directory")
-    d = recording.load(path)
-    res = recording.analyse_loaded(d["t_s"], d[f"{channel}_counts"])
+    d = load_recording(path)
+    res = analyse_recording(d["t_s"], d[f"{channel}_counts"])
     cal = res["calibration"]
     print(f"pysig demo: real HX711 recording (hx711_steps_10hz, {d['t_s'].size} samples at 10 Hz), "
           f"channel {channel}")
@@ -58,7 +59,7 @@ def demo(path, out_dir, channel):
     print("  recommended: lock-out fix, motion-aware settling, zero tracking; thresholds from a fixed R.")
     print("  auto: the default, Chain(): the same with every threshold following the noise it measures.")
     png = os.path.join(out_dir, f"pysig_demo_{channel}.png")
-    recording.plot_channel(png, d["t_s"], res,
+    plot_recording(png, d["t_s"], res,
                            f"pysig demo: weighing chain on a real HX711 recording ({channel})")
     print(f"\npicture: {os.path.abspath(png)}")
     return res
@@ -68,5 +69,5 @@ def run(args):
     if args.csv:
         demo(args.csv, args.out, args.channel)
     else:
-        with recording.bundled_csv() as path:
+        with bundled_recording() as path:
             demo(path, args.out, args.channel)

@@ -34,10 +34,8 @@ named `filtered_<unit>`."""
 import numpy as np
 import pyarrow as pa
 
-from ...weigh.chain import PRESETS, Chain
+from ...weigh import CODE_MAX, PRESETS, Chain, load_calibration
 from ...errors import InputFileError, NonFiniteError, RangeError, SaturationError
-from ...weigh.presets import CODE_MAX
-from ...weigh.scale import load_calibration
 from ...io import from_numpy, numeric_column, read_header, read_table, row_label
 from ...io_stream import iter_batches, progress, table_sink
 from ...status import Warn

@@ -15,9 +15,7 @@ import sys
 
 import numpy as np
 
-from ...tcomp import fit as tfit
-from ...tcomp import tmodel
-from ...tcomp.tempcode import CELSIUS, raw_code
+from ...tcomp import CELSIUS, MAX_FIT_ORDER, first_saturated, fit_model, raw_code, saturated_reading
 from ...errors import InputFileError, SaturationError
 from ...io import read_csv
 
@@ -55,7 +53,7 @@ def model_spec(args):
     try:
         return f"poly:{int(args.order)}"
     except ValueError:
-        raise InputFileError(f"fit: --order must be an integer 1..{tfit.MAX_FIT_ORDER} or 'auto', "
+        raise InputFileError(f"fit: --order must be an integer 1..{MAX_FIT_ORDER} or 'auto', "
                              f"got {args.order!r}") from None
 
 
@@ -63,9 +61,9 @@ def read_inputs(paths, temp, columns):
     parts = [read_csv(p, [temp] + columns) for p in paths]
     for path, part in zip(paths, parts):        # name the file and row, not an index in the join
         for c in columns:
-            i = tfit.first_saturated(part[c])
+            i = first_saturated(part[c])
             if i is not None:
-                raise SaturationError(f"{path}: row {i + 2}, column '{c}': {tfit.saturated_reading(part[c][i])}")
+                raise SaturationError(f"{path}: row {i + 2}, column '{c}': {saturated_reading(part[c][i])}")
     return {c: np.concatenate([d[c] for d in parts]) for c in [temp] + columns}
 
 
@@ -83,7 +81,7 @@ def run(args):
         if args.temp_scale is not None or args.temp_offset is not None:
             raise InputFileError("fit: --temp-scale/--temp-offset apply to --temp-unit raw only")
         temp_code = CELSIUS
-    result = tmodel.fit_model(temp, {c: data[c] for c in columns}, spec=spec, t0=args.t0,
+    result = fit_model(temp, {c: data[c] for c in columns}, spec=spec, t0=args.t0,
                               temp_code=temp_code, value_scale=args.value_scale, strict=args.strict,
                               temp_column=args.temp, prefer=args.prefer, what=where)
     for line in result.lines:

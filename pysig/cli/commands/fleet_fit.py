@@ -19,8 +19,8 @@ import time
 import numpy as np
 
 from ...errors import InputFileError, RangeError
-from ...tcomp.fit import MAX_FIT_ORDER
-from ...tcomp.fleet_report import DEFAULT_K, SUMMARY, write_fleet
+from ...tcomp import MAX_FIT_ORDER
+from ...fleet import DEFAULT_K, SUMMARY, write_fleet
 
 
 def register(sub):
@@ -65,12 +65,11 @@ def run(args):
         raise RangeError(f"fleet-fit: --k must be > 0, got {args.k}")
     t_start = time.perf_counter()
     if args.engine == "dask":
-        from ...tcomp.fleet_dask import connect, fit_fleet_dask
+        from ...fleet import connect, fit_fleet_dask
         with connect(args.scheduler, args.workers) as client:
             fit = fit_fleet_dask(args.logs, args.device, args.temp, columns, model, args.t0, client=client)
     else:
-        from ...tcomp.fleet import fit_fleet
-        from ...tcomp.fleet_data import load_fleet
+        from ...fleet import fit_fleet, load_fleet
         log = load_fleet(args.logs, args.device, args.temp, columns)
         fit = fit_fleet(log.dev, log.temp, log.values, log.devices, columns, model=model, t0=args.t0)
     t_fit = time.perf_counter()

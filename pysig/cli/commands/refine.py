@@ -8,8 +8,8 @@ import os
 
 import numpy as np
 
-from ...refine import loop as rf
-from ...refine.effects import FitData
+from ... import refine as rf
+from ...refine import FitData
 from ...errors import InputFileError, InsufficientDataError, RangeError
 from ...io import atomic_output, check_time_column, read_csv
 
@@ -183,7 +183,7 @@ def run(args):
         print(format_table(name, res))
     if args.plot:
         for name, res in results.items():
-            from ...refine.plots import write_plots
+            from ...refine import write_plots
             prefix = f"{name}_" if len(measured) > 1 else ""
             for path in write_plots(res, args.plot, prefix):
                 print(f"wrote {path}")

@@ -1,6 +1,6 @@
 """`pysig simulate OUT.csv [--seed N] [--load-steps 0:0,5:30,20:0] [--noise-uv-rms 0.3] ...`
 
-A load-cell run as the weighing paper's hardware would see it (pysig.sim.loadcell:
+A load-cell run as the weighing paper's hardware would see it (pysig.sim._loadcell:
 an L6D-like cell into a 24-bit ADS1232-like ADC), written as CSV with the
 columns t, counts, ref_kg.  Every disturbance is an option, off unless
 given; the same options and seed give the same file.  Feed the result to
@@ -8,7 +8,7 @@ given; the same options and seed give the same file.  Feed the result to
 from dataclasses import fields
 
 from ...errors import RangeError
-from ...sim.loadcell import LoadCellParams, simulate, write_run
+from ...sim import LoadCellParams, simulate_loadcell, write_loadcell_run
 
 
 def _steps(text):
@@ -44,7 +44,7 @@ def run(args):
     kwargs = {f.name: getattr(args, f.name) for f in fields(LoadCellParams)}
     kwargs["load_steps"] = _steps(args.load_steps)
     params = LoadCellParams(**kwargs)
-    sim = simulate(params, seed=args.seed)
-    write_run(args.output, sim)
+    sim = simulate_loadcell(params, seed=args.seed)
+    write_loadcell_run(args.output, sim)
     print(f"wrote {args.output}: {sim['t'].size} samples at {params.rate_hz:g} samples/s, "
           f"{params.counts_per_kg:.1f} counts/kg, zero {params.zero_counts:.0f} counts, seed {args.seed}")

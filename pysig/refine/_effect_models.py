@@ -1,0 +1,422 @@
+"""Candidate effects of the refinement loop: each a named family
+with its own parameters, turned into regressor columns of one linear model.
+
+The measurement model refine fits, in the sensor's own unit (LSB, counts):
+
+    y = b0 + g*r + sum_k a_k u(T')^k                      base (the magnetometer paper's)
+          + sum_j d_j r u(T')^j                           gain_drift
+          + h * (T' - play_w(T')) / w                     hysteresis
+          + c * (lag_tau(r) - r) / |r|max                 creep
+          + sum_k n_k u_r^k  (k >= 2)                     nonlinearity
+          + sum_i x_i u_other_i                           cross_axis
+    T' = lag_tau(T)  when thermal_lag is in the model, T otherwise
+
+u(T) is T centred and scaled to [-1, 1] (pysig.lsq.center_scale), r the
+reference (true value), u_r the reference centred and scaled.  Every
+coefficient is linear and is fitted by pysig.lsq.fit_linear_model; the three
+nonlinear parameters (lag and creep time constants, hysteresis width) are
+found by a 1-D search (a log grid, then scipy.optimize.minimize_scalar on
+the full data).
+
+The on-device forms of the state (lag IIR, play operator) are in
+csrc/include/sig_effects.h and csrc/refine/sig_effects.c;
+tests/spec/effects.py is their fixed-point spec.  The float forms
+here are what the fit uses."""
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import optimize, signal
+
+from ..errors import InsufficientDataError
+from ..lsq import center_scale, fit_linear_model
+
+GRID_POINTS = 20
+
+from . import _effects
+
+
+# ---- state primitives (float) ---------------------------------------------
+
+def lag_alpha(tau, dt):
+    """Per-sample gain of the exact first-order lag discretisation."""
+    return 1.0 - np.exp(-dt / tau)
+
+
+def first_order_lag(x, alpha):
+    """z[0] = x[0]; z[k] = z[k-1] + alpha * (x[k] - z[k-1])  (the device's IIR)."""
+    x = np.asarray(x, dtype=float)
+    z, _ = signal.lfilter([alpha], [1.0, -(1.0 - alpha)], x, zi=[(1.0 - alpha) * x[0]])
+    return z
+
+
+def play_operator(x, width, start=0):
+    """Backlash (play) operator: p follows x only when x moves more than
+    `width` away from it; x - p lies in [-width, width] and is +width while
+    heating, -width while cooling: the hysteresis branch state.  `start`
+    (+1 heating, -1 cooling, 0 neither) is the branch before the first
+    sample: p[0] = x[0] - start * width.
+
+    One implementation: the firmware's float form (sig_hyst_step_f in
+    csrc/refine/sig_effects.c) through Cython; its spec is
+    spec.effects.HystF."""
+    branch, _, _ = _effects.hyst_f(x, float(width), 0.0, int(start))
+    return np.asarray(x, dtype=float) - branch
+
+
+# ---- the data a model is fitted to ------------------------------------------
+
+@dataclass
+class FitData:
+    """One measured column and what it is fitted against.  `mask` marks the
+    samples used for fitting and scoring (False: glitch or transition)."""
+    y: np.ndarray
+    t: np.ndarray
+    T: np.ndarray = None          # temperature, None for weighing
+    r: np.ndarray = None          # reference (true value); None: constant field
+    others: dict = field(default_factory=dict)   # other axes' references (cross_axis)
+    mask: np.ndarray = None
+    labels: dict = field(default_factory=dict)   # units/names for reports
+    ref_from_y: bool = False      # reference built from y itself (plateau levels)
+    segments: tuple = (0,)        # first sample of each power-on (files joined end to end)
+
+    def __post_init__(self):
+        self.y = np.asarray(self.y, dtype=float)
+        n = self.y.size
+        self.t = np.asarray(self.t, dtype=float)
+        if self.mask is None:
+            self.mask = np.ones(n, dtype=bool)
+        self.mask = np.asarray(self.mask, dtype=bool)
+        dt = np.diff(self.t)
+        self.dt = float(np.median(dt)) if dt.size else 1.0
+        self.span_t = float(self.t[-1] - self.t[0]) if n > 1 else 1.0
+        if self.T is not None:
+            self.T = np.asarray(self.T, dtype=float)
+            self.t_center, self.t_scale = center_scale(self.T)
+        if self.r is not None:
+            self.r = np.asarray(self.r, dtype=float)
+            self.r_center, self.r_scale = center_scale(self.r)
+            self.r_abs = float(np.max(np.abs(self.r))) or 1.0
+        self.others = {k: np.asarray(v, dtype=float) for k, v in self.others.items()}
+        self.segments = tuple(sorted({0, *(int(i) for i in self.segments if 0 <= int(i) < n)}))
+
+    @property
+    def n(self):
+        return self.y.size
+
+    @property
+    def has_ref(self):
+        """A reference that varies (a constant one carries no gain information)."""
+        return self.r is not None and np.unique(self.r[self.mask]).size >= 2
+
+    def u_T(self, T):
+        return (T - self.t_center) / self.t_scale
+
+    def u_r(self):
+        return (self.r - self.r_center) / self.r_scale
+
+
+# ---- effect families ----------------------------------------------------------
+
+@dataclass(frozen=True)
+class Effect:
+    """One fitted term of the model: family name, variant (an order, or 0),
+    and the value of its nonlinear parameter (None for linear families)."""
+    name: str
+    variant: int = 0
+    param: float = None
+
+
+class Family:
+    name = ""
+    param_name = None      # name of the nonlinear parameter, if any
+    param_unit = ""
+    variants = (0,)
+
+    def unavailable(self, data):
+        """None when the family applies to `data`, else the reason it does not."""
+        return None
+
+    def grid(self, data):
+        """Values of the nonlinear parameter to try: log-spaced over bounds."""
+        b = self.bounds(data)
+        return [None] if b is None else list(np.geomspace(b[0], b[1], GRID_POINTS))
+
+    def bounds(self, data):
+        return None
+
+    def columns(self, data, T_used, effect):
+        """Regressor columns (n, k) and their names."""
+        raise NotImplementedError
+
+    variant_name = "variant"
+
+    def describe(self, effect):
+        d = {self.variant_name: effect.variant} if len(self.variants) > 1 else {}
+        if self.param_name:
+            d[self.param_name] = effect.param
+        return d
+
+
+class TimeConstantFamily(Family):
+    """A family whose parameter is a time constant: from half a sample to a
+    third of the recording."""
+    param_name = "tau_s"
+
+    def bounds(self, data):
+        return data.dt * 0.5, max(data.dt * 2.0, data.span_t / 3.0)
+
+
+class GainDrift(Family):
+    """Sensitivity depends on temperature: r * u(T')^j, j = 1..order."""
+    name = "gain_drift"
+    variants = (1, 2)
+    variant_name = "order"
+
+    def unavailable(self, data):
+        if data.T is None:
+            return "no temperature"
+        if not data.has_ref:
+            return "the reference is constant (gain cannot be told from offset)"
+        return None
+
+    def columns(self, data, T_used, effect):
+        u = data.u_T(T_used)
+        r = data.r / data.r_abs
+        cols = [r * u ** j for j in range(1, effect.variant + 1)]
+        return np.column_stack(cols), [f"r*u^{j}" for j in range(1, effect.variant + 1)]
+
+
+class ThermalLag(TimeConstantFamily):
+    """The sensor's temperature lags the measured one: every temperature
+    term uses T' = first_order_lag(T, tau) instead of T (no columns)."""
+    name = "thermal_lag"
+
+    def unavailable(self, data):
+        return None if data.T is not None else "no temperature"
+
+    def columns(self, data, T_used, effect):
+        return np.empty((data.n, 0)), []
+
+    def transform(self, data, T, effect):
+        return first_order_lag(T, lag_alpha(effect.param, data.dt))
+
+
+class Hysteresis(Family):
+    """Heating and cooling branches differ: h * (T' - play_w(T')) / w."""
+    name = "hysteresis"
+    param_name = "width"
+    variants = (0, 1, -1)      # the branch before the first sample: neither, heating, cooling
+    variant_name = "start_branch"
+
+    def unavailable(self, data):
+        if data.T is None:
+            return "no temperature"
+        # both branches must be visited: the temperature (smoothed by a play
+        # operator of 5 % of the span) must rise and fall by >= 10 % of the span
+        span = float(np.ptp(data.T))
+        if span <= 0:
+            return "constant temperature"
+        moves = np.diff(play_operator(data.T, 0.05 * span))
+        if moves[moves > 0].sum() < 0.1 * span or -moves[moves < 0].sum() < 0.1 * span:
+            return "the temperature only rises or only falls (one branch)"
+        return None
+
+    def bounds(self, data):
+        span = float(np.ptp(data.T)) or 1.0
+        return span * 1e-3, span * 0.3
+
+    def columns(self, data, T_used, effect):
+        w = effect.param
+        return ((T_used - play_operator(T_used, w, effect.variant)) / w)[:, None], ["branch"]
+
+
+class Creep(TimeConstantFamily):
+    """Output drifts after a load change, proportional to the step:
+    c * (lag_tau(r) - r) / |r|max (an exponential approach of time constant tau)."""
+    name = "creep"
+
+    def unavailable(self, data):
+        return None if data.has_ref else "no varying reference (no load changes)"
+
+    def columns(self, data, T_used, effect):
+        z = first_order_lag(data.r, lag_alpha(effect.param, data.dt))
+        return ((z - data.r) / data.r_abs)[:, None], ["lag(r)-r"]
+
+
+class WarmUp(TimeConstantFamily):
+    """A transient in time since power-on, at any temperature: one
+    w_s * exp(-(t - t_s) / tau) column per power-on segment s (files joined
+    end to end are separate power-ons), zero before the segment starts."""
+    name = "warm_up"
+
+    def columns(self, data, T_used, effect):
+        starts = list(data.segments) + [data.n]
+        cols = np.zeros((data.n, len(data.segments)))
+        for j, (a, b) in enumerate(zip(starts[:-1], starts[1:])):
+            cols[a:b, j] = np.exp(-(data.t[a:b] - data.t[a]) / effect.param)
+        return cols, [f"exp(-t/tau)@{a}" for a in data.segments]
+
+
+class Nonlinearity(Family):
+    """Higher order in the measured quantity: u_r^k, k = 2..order."""
+    name = "nonlinearity"
+    variants = (2, 3)
+    variant_name = "order"
+
+    def unavailable(self, data):
+        if not data.has_ref:
+            return "no varying reference"
+        if data.ref_from_y:
+            return "the reference is the reading's own plateau levels (no independent truth)"
+        if np.unique(data.r[data.mask]).size < 4:
+            return "fewer than 4 distinct reference values"
+        return None
+
+    def columns(self, data, T_used, effect):
+        u = data.u_r()
+        ks = range(2, effect.variant + 1)
+        return np.column_stack([u ** k for k in ks]), [f"u_r^{k}" for k in ks]
+
+
+class CrossAxis(Family):
+    """Other axes leak into this one: sum_i x_i * (other_i centred, scaled)."""
+    name = "cross_axis"
+
+    def unavailable(self, data):
+        return None if data.others else "no other axes given"
+
+    def columns(self, data, T_used, effect):
+        cols, names = [], []
+        for name, v in sorted(data.others.items()):
+            c, s = center_scale(v)
+            cols.append((v - c) / s)
+            names.append(name)
+        return np.column_stack(cols), names
+
+
+FAMILIES = {f.name: f for f in (GainDrift(), ThermalLag(), Hysteresis(), Creep(),
+                                Nonlinearity(), CrossAxis(), WarmUp())}
+
+
+# ---- the model: base + effects ------------------------------------------------
+
+@dataclass
+class ModelSpec:
+    """Base offset in temperature and the effects.  `base_family` "poly":
+    a polynomial of order `base_order` in u(T') (0: no temperature term);
+    "table": a piecewise-linear table of `base_order` uniform knots over the
+    calibrated range, flat outside it (pysig.tcomp._table_fit's hat basis, what
+    the firmware's table lookup evaluates)."""
+    base_order: int
+    effects: tuple = ()
+    base_family: str = "poly"
+
+    def with_effect(self, effect):
+        return ModelSpec(self.base_order, tuple(self.effects) + (effect,), self.base_family)
+
+    def with_base(self, family, size):
+        return ModelSpec(int(size), tuple(self.effects), family)
+
+    def without(self, name):
+        return ModelSpec(self.base_order, tuple(e for e in self.effects if e.name != name),
+                         self.base_family)
+
+    def describe_base(self):
+        if self.base_family == "table":
+            return f"table, {self.base_order} knots"
+        return f"polynomial, order {self.base_order}"
+
+    def names(self):
+        return [e.name for e in self.effects]
+
+
+def temperature_used(data, spec):
+    """T' of the model: the measured temperature, lagged if thermal_lag is in."""
+    T = data.T
+    for e in spec.effects:
+        fam = FAMILIES[e.name]
+        if hasattr(fam, "transform"):
+            T = fam.transform(data, T, e)
+    return T
+
+
+TABLE_PREFIX = "table:"
+
+
+def design(data, spec):
+    """Design matrix (n, p) and column names of `spec` on `data`."""
+    table = spec.base_family == "table" and data.T is not None
+    cols, names = ([], []) if table else ([np.ones(data.n)], ["const"])
+    T_used = temperature_used(data, spec) if data.T is not None else None
+    if table:                 # the hats sum to one: they carry the constant
+        from ..tcomp._table_fit import hat_basis
+        hats = hat_basis(data.u_T(T_used), np.linspace(-1.0, 1.0, spec.base_order))
+        cols.extend(hats.T)
+        names.extend(f"{TABLE_PREFIX}{j}" for j in range(spec.base_order))
+    if data.has_ref:
+        cols.append(data.r / data.r_abs)
+        names.append("r")
+    if T_used is not None and not table:
+        u = data.u_T(T_used)
+        for k in range(1, spec.base_order + 1):
+            cols.append(u ** k)
+            names.append(f"u^{k}")
+    for e in spec.effects:
+        c, nm = FAMILIES[e.name].columns(data, T_used, e)
+        for j in range(c.shape[1]):
+            cols.append(c[:, j])
+            names.append(f"{e.name}:{nm[j]}")
+    return np.column_stack(cols), names
+
+
+@dataclass
+class FittedModel:
+    spec: ModelSpec
+    beta: np.ndarray
+    names: list
+    prediction: np.ndarray
+    residual: np.ndarray      # y - prediction (all samples; score only on mask)
+    design: np.ndarray = None
+
+    def rms(self, mask):
+        return float(np.sqrt(np.mean(self.residual[mask] ** 2)))
+
+    def coefficients(self):
+        return {n: float(b) for n, b in zip(self.names, self.beta)}
+
+
+def fit(data, spec, rows=None):
+    """Least-squares fit of `spec` on the rows `rows` (default: data.mask)."""
+    rows = data.mask if rows is None else rows
+    X, names = design(data, spec)
+    if rows.sum() < X.shape[1]:
+        raise InsufficientDataError(
+            f"refine: {X.shape[1]} parameters need at least as many samples, got {int(rows.sum())}")
+    beta, _ = fit_linear_model(X[rows], data.y[rows], what="refine")
+    pred = X @ beta
+    return FittedModel(spec, beta, names, pred, data.y - pred, X)
+
+
+def fit_param(data, spec, family, variant):
+    """Best nonlinear parameter of `family` added to `spec`, on all masked
+    samples: the grid minimum, polished by a bounded scalar search in log
+    space.  Returns the fitted model with the new effect."""
+    grid = family.grid(data)
+    if grid == [None]:
+        return fit(data, spec.with_effect(Effect(family.name, variant, None)))
+
+    def sse(logp):
+        m = fit(data, spec.with_effect(Effect(family.name, variant, float(np.exp(logp)))))
+        return float(np.sum(m.residual[data.mask] ** 2))
+
+    logs = np.log(grid)
+    vals = [sse(v) for v in logs]
+    i = int(np.argmin(vals))
+    lo, hi = logs[max(i - 1, 0)], logs[min(i + 1, len(logs) - 1)]
+    best = logs[i]
+    if hi > lo:
+        res = optimize.minimize_scalar(sse, bounds=(lo, hi), method="bounded",
+                                       options={"xatol": 0.01})
+        if res.success and res.fun < vals[i]:
+            best = float(res.x)
+    return fit(data, spec.with_effect(Effect(family.name, variant, float(np.exp(best)))))

@@ -1,0 +1,417 @@
+"""Scale calibration and the figures of a weighing run.
+
+- calibrate(): least-squares line counts -> mass from standard masses, with
+  pysig.lsq.fit_poly (the same solver as the temperature fit), its linearity
+  error and sensitivity.  The result applies itself in float and converts to
+  the fixed-point image that csrc/weigh/sig_scale.c applies on the MCU; it is
+  stored as JSON (save / load_calibration) or a C header (c_header).
+- find_plateaus() / assign_nominal() / plateaus_at_masses(): where a
+  recording holds a load still, found from the data (no hand-picked
+  indices), and which nominal level (equal steps) or given mass each
+  plateau is.
+- settle_index(), glitch_indices(): the measurements the benches report.
+"""
+import json
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.ndimage import maximum_filter1d, median_filter, minimum_filter1d
+
+from ..errors import InsufficientDataError, ModelFileError, RangeError, SaturationError
+from ..io import atomic_output, read_json
+from ..lsq import fit_poly
+from .._rails import ADC24_RAILS, first_at_rail, saturated_message
+
+MAX_SHIFT = 62                  # sig_scale.h: gain_shift 0..62
+OUT_FRAC = 16                   # Q16.16 output
+INT32_MIN, INT32_MAX = -(1 << 31), (1 << 31) - 1
+
+
+def quantize(offset, gain, out_frac=OUT_FRAC):
+    """Integer image (offset, gain_mant, gain_shift) of a float calibration
+    for csrc/weigh/sig_scale.c: offset rounded to the nearest code; the
+    largest gain_shift in 0..62 that keeps |gain_mant| <= INT32_MAX.
+
+    Raises
+    ------
+    RangeError
+        Non-finite or zero gain, an offset outside int32, a gain too large
+        for the Q16 output or so small that it underflows."""
+    offset, gain = float(offset), float(gain)
+    if not (np.isfinite(offset) and np.isfinite(gain)) or gain == 0.0:
+        raise RangeError(f"scale quantize: offset {offset!r} and gain {gain!r} must be finite, gain != 0")
+    off = int(round(offset))
+    if not INT32_MIN <= off <= INT32_MAX:
+        raise RangeError(f"scale quantize: offset {offset!r} counts does not fit int32")
+    target = gain * 2.0 ** out_frac
+    if abs(round(target)) > INT32_MAX:
+        raise RangeError(f"scale quantize: gain {gain!r} unit/count is too large for a Q{out_frac} output")
+    shift = 0
+    while shift < MAX_SHIFT and abs(round(target * 2.0 ** (shift + 1))) <= INT32_MAX:
+        shift += 1
+    mant = int(round(target * 2.0 ** shift))
+    if mant == 0:
+        raise RangeError(f"scale quantize: gain {gain!r} unit/count underflows the Q{out_frac} image")
+    return off, mant, shift
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """mass = (counts - offset_counts) * gain  (gain in unit per count)."""
+    offset_counts: float
+    gain: float
+    unit: str
+    linearity_err_pct_fs: float | None   # max |fit residual| / largest mass, %; None below 3 masses
+    residual_rms: float           # fit residual RMS, in `unit`
+    full_scale: float             # largest calibration mass, in `unit`
+
+    @property
+    def counts_per_unit(self):
+        """Sensitivity in ADC codes per unit of mass."""
+        return 1.0 / self.gain
+
+    def to_mass(self, counts):
+        """Float path (the same formula as csrc sig_scale_apply_f)."""
+        return (np.asarray(counts, dtype=float) - float(self.offset_counts)) * float(self.gain)
+
+    def linearity_text(self):
+        """The linearity error as a sentence: a straight line through two
+        masses always fits, so below three masses there is none to state."""
+        if self.linearity_err_pct_fs is None:
+            return "linearity not measured (it needs 3 or more distinct masses)"
+        return f"linearity error {self.linearity_err_pct_fs:.4f} % of {self.full_scale:g} {self.unit}"
+
+    def fixed(self, out_frac=16):
+        """The integer image for csrc/weigh/sig_scale.c (quantize)."""
+        return quantize(self.offset_counts, self.gain, out_frac)
+
+    def to_dict(self):
+        off, mant, shift = self.fixed()
+        return {"kind": SCALE_KIND, "version": SCALE_VERSION, "unit": self.unit,
+                "offset_counts": self.offset_counts, "gain": self.gain,
+                "counts_per_unit": self.counts_per_unit,
+                "linearity_err_pct_fs": self.linearity_err_pct_fs,
+                "residual_rms": self.residual_rms, "full_scale": self.full_scale,
+                "fixed": {"offset": off, "gain_mant": mant, "gain_shift": shift,
+                          "output": "Q16.16 " + self.unit}}
+
+    def save(self, path):
+        """JSON, written atomically."""
+        with atomic_output(path) as fh:
+            json.dump(self.to_dict(), fh, indent=1)
+            fh.write("\n")
+
+    def c_header(self, name="scale_cal"):
+        """C header with the arguments of sig_scale_init_q16 and sig_scale_init_f."""
+        off, mant, shift = self.fixed()
+        up = name.upper()
+        return f"""/* {name}: scale calibration generated by pysig (least squares, {self.unit}).
+ * mass = (counts - offset) * gain; gain {self.gain!r} {self.unit}/count
+ * ({self.counts_per_unit:.3f} counts/{self.unit}); {self.linearity_text()}.
+ * Fixed point (sig_scale.h): Q16.16 {self.unit} out.
+ *   sig_scale_init_q16(&s, {up}_OFFSET, {up}_GAIN_MANT, {up}_GAIN_SHIFT);
+ *   sig_scale_init_f(&s, {up}_OFFSET_F, {up}_GAIN_F);                         */
+#ifndef {up}_H
+#define {up}_H
+
+#include "sig_scale.h"
+
+#define {up}_OFFSET     INT32_C({off})
+#define {up}_GAIN_MANT  INT32_C({mant})
+#define {up}_GAIN_SHIFT ((uint8_t){shift}u)
+#define {up}_OFFSET_F   SIG_REAL({float(self.offset_counts)!r})
+#define {up}_GAIN_F     SIG_REAL({float(self.gain)!r})
+
+#endif /* {up}_H */
+"""
+
+
+SCALE_KIND = "pysig.scale_calibration"
+SCALE_VERSION = 1
+
+
+def load_calibration(path):
+    """A Calibration saved by Calibration.save; ModelFileError names what is wrong."""
+    d = read_json(path, "JSON scale calibration")
+    if not isinstance(d, dict) or d.get("kind") != SCALE_KIND:
+        raise ModelFileError(f"{path}: not a scale calibration (kind {d.get('kind') if isinstance(d, dict) else None!r})")
+    if d.get("version") != SCALE_VERSION:
+        raise ModelFileError(f"{path}: scale calibration version {d.get('version')!r}, "
+                             f"this pysig reads {SCALE_VERSION}")
+    try:
+        lin = d["linearity_err_pct_fs"]
+        cal = Calibration(offset_counts=float(d["offset_counts"]), gain=float(d["gain"]),
+                          unit=str(d["unit"]), linearity_err_pct_fs=None if lin is None else float(lin),
+                          residual_rms=float(d["residual_rms"]), full_scale=float(d["full_scale"]))
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ModelFileError(f"{path}: scale calibration field missing or not a number: {exc}") from None
+    if not (np.isfinite(cal.offset_counts) and np.isfinite(cal.gain) and cal.gain != 0):
+        raise ModelFileError(f"{path}: offset_counts and gain must be finite, gain non-zero")
+    return cal
+
+
+# Counts are codes of a 24-bit converter (pysig._rails).
+def first_saturated(counts):
+    """Index of the first count at a 24-bit rail, or None."""
+    return first_at_rail(counts, ADC24_RAILS)
+
+
+def saturated_count(value):
+    return saturated_message(value, "the 24-bit converter's")
+
+
+def calibrate(counts, masses, unit="kg"):
+    """Least-squares straight line mass(counts) through (counts[i], masses[i]).
+
+    Parameters
+    ----------
+    counts : array_like
+        The mean reading at each standard mass (the weighing paper averages
+        5 readings per mass), ADC codes, none at the 24-bit rails.
+    masses : array_like
+        The standard masses, at least 2 distinct.
+    unit : str, optional
+        The masses' unit, carried into the result.
+
+    Returns
+    -------
+    Calibration
+        offset_counts, gain (unit per count), linearity error (% of full
+        scale; None with fewer than 3 distinct masses: a line through two
+        masses fits them whatever the cell does), residual RMS; `to_mass` applies it, `fixed` gives the
+        firmware's integer form, `save` writes it as JSON.
+
+    Raises
+    ------
+    RangeError
+        `counts` and `masses` differ in length.
+    SaturationError
+        A reading at the converter's rails.
+    InsufficientDataError
+        Fewer than 2 distinct masses, or readings that do not change.
+
+    Examples
+    --------
+    >>> cal = calibrate([8390.0, 9890.0, 11390.0], [0.0, 10.0, 20.0])
+    >>> round(cal.counts_per_unit, 6), round(float(cal.to_mass(10640.0)), 6)
+    (150.0, 15.0)
+    >>> calibrate([1.0, 2.0], [5.0, 5.0])
+    Traceback (most recent call last):
+        ...
+    pysig.errors.InsufficientDataError: calibrate: a line needs at least 2 distinct masses, got 1
+    """
+    counts = np.asarray(counts, dtype=float).ravel()
+    masses = np.asarray(masses, dtype=float).ravel()
+    if counts.size != masses.size:
+        raise RangeError(f"calibrate: {counts.size} readings for {masses.size} masses")
+    i = first_saturated(counts)
+    if i is not None:
+        raise SaturationError(f"calibrate: reading {i}: {saturated_count(counts[i])}")
+    if np.unique(masses).size < 2:
+        raise InsufficientDataError(
+            f"calibrate: a line needs at least 2 distinct masses, got {np.unique(masses).size}")
+    fit = fit_poly(counts, masses, 1, what="scale calibration")
+    gain = fit.coef[1] / fit.scale
+    if gain == 0:
+        raise InsufficientDataError("calibrate: the readings do not change with the mass")
+    offset = fit.center - fit.coef[0] / gain
+    resid = masses - fit(counts)
+    full_scale = float(np.max(np.abs(masses)))
+    linearity = (float(100.0 * np.max(np.abs(resid)) / full_scale)
+                 if np.unique(masses).size >= 3 else None)
+    return Calibration(offset_counts=float(offset), gain=float(gain), unit=unit,
+                       linearity_err_pct_fs=linearity,
+                       residual_rms=fit.rms, full_scale=full_scale)
+
+
+# ---- plateaus -------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Plateau:
+    start: int        # first sample index
+    stop: int         # one past the last sample
+    level: float      # median of the raw samples in [start, stop)
+    nominal: float = float("nan")
+
+
+def noise_sigma(x):
+    """Robust per-sample noise: MAD of first differences / sqrt(2).  Isolated
+    glitches and load steps are a few differences out of many and do not move it.
+
+    Parameters
+    ----------
+    x : array_like
+        A record, ideally of a still load.
+
+    Returns
+    -------
+    float
+        The noise standard deviation of one sample, in the record's unit
+        (its square is the R the weighing presets take).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> x = 5.0 + np.random.default_rng(1).normal(0.0, 0.1, 2000)
+    >>> x[500] += 40.0                     # one glitch
+    >>> x[1000:] += 20.0                   # one load step
+    >>> round(noise_sigma(x), 2)
+    0.1
+    """
+    d = np.diff(np.asarray(x, dtype=float))
+    return float(1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(2.0))
+
+
+def find_plateaus(x, rate_hz, min_s=3.0, window_s=1.0, k_sigma=6.0, trim_s=0.0):
+    """Intervals where the load is still, found from the data.
+
+    A 5-sample running median removes isolated glitches; a sample is steady
+    when the running median moves by no more than k_sigma * sigma (sigma from
+    noise_sigma) over the centred window of window_s; steady runs of at least
+    min_s seconds are plateaus, each trimmed by trim_s at both ends."""
+    x = np.asarray(x, dtype=float)
+    if x.size < 5:
+        raise InsufficientDataError(f"find_plateaus: {x.size} samples, need at least 5")
+    sigma = noise_sigma(x)
+    med = median_filter(x, size=5, mode="nearest")
+    w = max(int(round(window_s * rate_hz)), 2)
+    hi = maximum_filter1d(med, size=w, mode="nearest")
+    lo = minimum_filter1d(med, size=w, mode="nearest")
+    steady = (hi - lo) <= k_sigma * sigma
+    min_len = int(round(min_s * rate_hz))
+    trim = int(round(trim_s * rate_hz))
+    plateaus = []
+    edges = np.flatnonzero(np.diff(np.concatenate(([0], steady.astype(np.int8), [0]))))
+    for a, b in zip(edges[::2], edges[1::2]):
+        a, b = a + trim, b - trim
+        if b - a >= min_len:
+            plateaus.append(Plateau(int(a), int(b), float(np.median(x[a:b]))))
+    return plateaus
+
+
+def group_levels(levels, min_gap=None, tol_frac=0.25):
+    """One load per group of plateau levels: levels closer than `min_gap`
+    (default: tol_frac of the largest gap between sorted levels) are the
+    same load.  Returns the group of each level, 0 for the lowest load."""
+    levels = np.asarray(levels, dtype=float)
+    order = np.argsort(levels)
+    gaps = np.diff(levels[order])
+    if min_gap is None:
+        min_gap = tol_frac * gaps.max() if gaps.size else 0.0
+    group_sorted = np.concatenate(([0], np.cumsum(gaps > min_gap)))
+    group = np.empty(levels.size, dtype=int)
+    group[order] = group_sorted
+    return group
+
+
+def assign_nominal(plateaus, step, min_gap=None, tol_frac=0.25):
+    """Nominal level of each plateau for loads put on in equal steps from zero.
+
+    Plateau levels closer than `min_gap` (default: tol_frac of the largest
+    gap between sorted levels) are one load.  The lowest load is 0; the
+    smallest spacing between loads is one `step`, and every load is the
+    nearest whole number of steps above the lowest (so a skipped level is
+    seen).  Raises RangeError when a load lies more than 0.2 step from a
+    whole number of steps.  Returns new Plateau objects with `nominal` set."""
+    if not plateaus:
+        raise InsufficientDataError("assign_nominal: no plateaus")
+    levels = np.array([p.level for p in plateaus])
+    group = group_levels(levels, min_gap, tol_frac)
+    means = np.array([levels[group == g].mean() for g in range(group.max() + 1)])
+    if means.size == 1:
+        index = np.zeros(1)
+    else:
+        spacing = np.min(np.diff(means))
+        ratio = (means - means[0]) / spacing
+        index = np.rint(ratio)
+        worst = int(np.argmax(np.abs(ratio - index)))
+        if abs(ratio[worst] - index[worst]) > 0.2:
+            raise RangeError(f"assign_nominal: load {worst} sits {ratio[worst]:.2f} steps above zero, "
+                             "not a whole number of equal steps")
+    return [Plateau(p.start, p.stop, p.level, float(index[g] * step)) for p, g in zip(plateaus, group)]
+
+
+LOAD_GAP_SIGMAS = 5.0
+
+
+def plateaus_at_masses(x, masses, rate_hz, min_s=3.0):
+    """The still loads of a log where known masses were put on, each plateau
+    with its mass.
+
+    The plateaus are found in the data (find_plateaus), plateaus whose
+    levels differ by at most LOAD_GAP_SIGMAS noise sigmas (noise_sigma) are
+    one load (group_levels), and the loads are taken in the order they first
+    appear: `masses` lists them in that order (a load taken off and put on
+    again keeps its mass).  Two masses must therefore read more than 5 noise
+    sigmas apart.
+
+    Parameters
+    ----------
+    x : array_like
+        The raw readings (ADC codes or any unit), in time order.
+    masses : sequence of float
+        The distinct masses, in the order their loads first appear.
+    rate_hz : float
+        Samples per second (a plateau lasts at least `min_s` seconds).
+
+    Returns
+    -------
+    list of Plateau
+        In time order, `nominal` the plateau's mass.
+
+    Raises
+    ------
+    RangeError
+        A mass listed twice, or more still loads in the log than masses.
+    InsufficientDataError
+        Fewer still loads in the log than masses.
+    """
+    masses = [float(m) for m in masses]
+    if len(set(masses)) != len(masses):
+        raise RangeError(f"masses {masses}: each load's mass once, in the order the loads first appear")
+    plateaus = find_plateaus(x, rate_hz, min_s=min_s)
+    if not plateaus:
+        raise InsufficientDataError(f"no still load of at least {min_s:g} s in the log")
+    # one load: plateau levels within LOAD_GAP_SIGMAS noise sigmas (a load taken off and put
+    # on again reads within ~1 sigma on the real HX711 rig; its 10-lb steps are ~100 sigma)
+    group = group_levels([p.level for p in plateaus], min_gap=LOAD_GAP_SIGMAS * noise_sigma(x))
+    order = {}
+    for g in group:                    # loads numbered by first appearance
+        order.setdefault(int(g), len(order))
+    load = [order[int(g)] for g in group]
+    if len(order) != len(masses):
+        firsts = [next(p for p, k in zip(plateaus, load) if k == j) for j in range(len(order))]
+        found = "; ".join(f"{p.level:.6g} from sample {p.start}" for p in firsts)
+        cls = InsufficientDataError if len(order) < len(masses) else RangeError
+        raise cls(f"{len(masses)} masses given, {len(order)} still loads (of at least {min_s:g} s) "
+                  f"found in the log, in order of appearance: {found}")
+    return [Plateau(p.start, p.stop, p.level, masses[k]) for p, k in zip(plateaus, load)]
+
+
+# ---- measurements ---------------------------------------------------------
+
+def settle_index(out, target, band, start, stop, stable=None):
+    """First index i in [start, stop) from which out stays within target +-
+    band up to stop (and, when `stable` is given, stable[i] is set).
+    Returns None when the output never settles in the interval."""
+    seg = np.abs(np.asarray(out[start:stop], dtype=float) - target) > band
+    if seg.size == 0:
+        return None
+    bad = np.flatnonzero(seg)
+    first = 0 if bad.size == 0 else int(bad[-1]) + 1
+    if first >= seg.size:
+        return None
+    if stable is not None:
+        ok = np.flatnonzero(np.asarray(stable[start + first:stop], dtype=bool))
+        if ok.size == 0:
+            return None
+        first += int(ok[0])
+    return start + first
+
+
+def glitch_indices(x, k_sigma=50.0):
+    """Isolated read glitches: samples further than k_sigma * noise from the
+    5-sample running median (real HX711 glitches are millions of codes off)."""
+    x = np.asarray(x, dtype=float)
+    med = median_filter(x, size=5, mode="nearest")
+    return np.flatnonzero(np.abs(x - med) > k_sigma * noise_sigma(x))

@@ -1,0 +1,631 @@
+"""The weighing chain in plain Python: the executable spec of csrc/weigh/
+sig_limit.c, sig_antipulse.c, sig_kalman1.c, sig_stable.c, sig_noise.c and
+sig_chain.c.  Imported by tests only; the presets and parameter checks it runs
+from are the library's (pysig.weigh._presets).
+
+Read next to the weighing paper: limit filter -> anti-pulse filter -> scalar Kalman
+filter -> stability detector.  Every class takes `fixed=False` (floating
+point, Python float == C double) or `fixed=True` (the C fixed-point form:
+integer ADC codes, Kalman state in Q24.7, gain in Q2.30; computed here with
+Python ints so the result is the C result bit for bit).
+
+Units.  The stage classes take parameters and samples in signal units
+(ADC codes, or kg).  `Chain` takes the preset's parameters in kg and a
+`units_per_kg` scale (signal units per kg), so the same preset serves a kg
+signal (units_per_kg=1) and ADC counts.  Q, R and P0 are variances: they
+scale with units_per_kg squared.
+"""
+import math
+
+import numpy as np
+
+from pysig.errors import NonFiniteError, RangeError
+
+# The presets and the parameter rules (kg -> signal units -> the C's fixed-point
+# parameters) are configuration, not filter algorithm: the spec runs from the
+# library's one parameter set (pysig.weigh._presets) and specifies the stages.
+from pysig.weigh._presets import (  # noqa: F401  (re-exported for the tests)
+    AUTO, CHAIN_MOTION, CHAIN_NOISE_FLOOR, CHAIN_TARED, CODE_MAX, ERR_NONFINITE, INT32_MAX,
+    INT32_MIN, LB_PER_KG, LIMIT_RESEEDED, OK, P0_MAX_Q16, PARAM_NAMES, PRESETS, Q30, Q_MAX_Q30,
+    WARN_CLAMPED, WARN_REJECTED, WINDOW_MAX, _check, _finite, _round_int32, chain_fixed_params,
+    chain_params, kalman_fixed_params)
+
+
+# ---- fixed-point arithmetic (csrc/include/sig_types.h, sig_antipulse.c, sig_kalman1.c) ----------
+def sat32(v):
+    return INT32_MIN if v < INT32_MIN else INT32_MAX if v > INT32_MAX else v
+
+
+def mul_q30_u(a, b):
+    """floor((a*b + 2^29) / 2^30) truncated to 32 bits (sig_mul_q30_u32)."""
+    return ((a * b + (1 << 29)) >> 30) & 0xFFFFFFFF
+
+
+def mul_q30_gain(a, k):
+    """sign(a) * round-half-up(|a| * k / 2^30) (sig_mul_q30_gain)."""
+    r = mul_q30_u(abs(a), k)
+    return r if a >= 0 else (INT32_MIN if r >= 1 << 31 else -r)
+
+
+def code_of(x):
+    """A float sample as the fixed form's int32 code (nearest, ties to even)."""
+    if not math.isfinite(x):
+        raise NonFiniteError(f"non-finite sample {x!r}: the fixed form takes ADC codes")
+    return sat32(int(round(x)))
+
+
+def clamp_code(x):
+    return max(-CODE_MAX, min(CODE_MAX, x))
+
+
+# ---- stage 1: limit filter -------------------------------------------------
+class LimitFilter:
+    """|x - Dc| > A0 -> replaced by Dc.  lockout_n > 0: the lockout_n-th
+    successive rejection on one side is accepted and re-seeds Dc."""
+
+    def __init__(self, a0, lockout_n=0, fixed=False):
+        _finite("a0", a0)
+        _check(a0 > 0, "a0", a0, "must be > 0")
+        _check(0 <= lockout_n <= 255 and int(lockout_n) == lockout_n, "lockout_n", lockout_n,
+               "must be an integer in 0..255")
+        self.fixed = bool(fixed)
+        self.a0 = _round_int32("a0", a0) if self.fixed else float(a0)
+        _check(self.a0 > 0, "a0", a0, "rounds to 0 codes in fixed point")
+        self.lockout_n = int(lockout_n)
+        self.reset()
+
+    def reset(self):
+        self.Dc, self.run, self.side, self.seeded, self.status = 0, 0, 0, False, OK
+
+    def set_ref(self, dc):
+        self.Dc, self.seeded = dc, True
+
+    def _step(self, x):
+        """One sample in the stage's own numbers; returns (out, status)."""
+        if not self.fixed and not math.isfinite(x):
+            if not self.seeded:
+                return None, ERR_NONFINITE
+            return self.Dc, WARN_REJECTED
+        if not self.seeded:
+            self.Dc, self.seeded, self.run, self.side = x, True, 0, 0
+            return x, OK
+        d = sat32(x - self.Dc) if self.fixed else x - self.Dc
+        if d > self.a0 or d < -self.a0:
+            side = 1 if d > 0 else -1
+            if side == self.side:
+                self.run = min(self.run + 1, 255)
+            else:
+                self.side, self.run = side, 1
+            if self.lockout_n and self.run >= self.lockout_n:
+                self.Dc, self.run, self.side = x, 0, 0
+                return x, LIMIT_RESEEDED
+            return self.Dc, WARN_REJECTED
+        self.run, self.side, self.Dc = 0, 0, x
+        return x, OK
+
+    def step(self, x):
+        out, self.status = self._step(code_of(x) if self.fixed else float(x))
+        return float("nan") if out is None else float(out)
+
+    def process(self, x):
+        return np.array([self.step(v) for v in np.asarray(x, dtype=float)])
+
+
+# ---- stage 2: anti-pulse filter --------------------------------------------
+class AntiPulse:
+    """Mean of the last N samples without one max and one min.  Filling:
+    1 sample -> itself, 2 -> their mean, k >= 3 -> trimmed mean of the k.
+    Fixed: codes clamped to +-CODE_MAX, round-half-up((sum-max-min)/(k-2)).
+    Float: the C keeps a running sum (re-summed in storage order each time
+    the write position wraps) and multiplies by 1/(N-2) for a full window;
+    this twin does the same operations so the float results agree to the bit."""
+
+    def __init__(self, window=12, fixed=False):
+        _check(int(window) == window and 3 <= window <= WINDOW_MAX, "window", window,
+               f"must be an integer in 3..{WINDOW_MAX}")
+        self.n = int(window)
+        self.fixed = bool(fixed)
+        self.inv = 1.0 / (self.n - 2)
+        self.reset()
+
+    def reset(self):
+        self.buf, self.count, self.head, self.status = [0] * self.n, 0, 0, OK
+        self.sum = 0.0
+
+    def _step(self, x):
+        st = OK
+        if self.fixed and abs(x) > CODE_MAX:
+            x, st = clamp_code(x), WARN_CLAMPED
+        full = self.count == self.n
+        old = self.buf[self.head]
+        self.buf[self.head] = x
+        self.head = (self.head + 1) % self.n
+        self.count = min(self.count + 1, self.n)
+        held = self.buf[:self.count]
+        mx, mn = max(held), min(held)
+        if self.fixed:                         # the definition, exactly
+            if self.count >= 3:
+                total, d = sum(held) - mx - mn, self.count - 2
+            else:
+                total, d = sum(held), self.count
+            return (total + d // 2) // d, st
+        self.sum = (self.sum - old) + x if full else self.sum + x
+        if self.head == 0 or not math.isfinite(self.sum):
+            self.sum = held[0]
+            for v in held[1:]:
+                self.sum += v
+        if self.count == 1:
+            return x, st
+        if self.count == 2:
+            t = self.sum * 0.5
+            return (t if math.isfinite(t) else self._safe_mean(held, mx, mn)), st
+        t = self.sum - mx - mn
+        if not math.isfinite(t):
+            return self._safe_mean(held, mx, mn), st
+        return (t * self.inv if self.count == self.n else t / (self.count - 2)), st
+
+    def _safe_mean(self, held, mx, mn):
+        """Overflow-free trimmed mean: sum of v / d, one max and one min left out."""
+        trim = len(held) >= 3
+        d = float(len(held) - 2 if trim else len(held))
+        skip_mx = skip_mn = trim
+        acc = 0.0
+        for v in held:
+            if skip_mx and v == mx:
+                skip_mx = False
+                continue
+            if skip_mn and v == mn:
+                skip_mn = False
+                continue
+            acc += v / d
+        # rounded terms can sum past the largest float; the mean is within [mn, mx]
+        return min(max(acc, mn), mx)
+
+    def step(self, x):
+        if self.fixed:
+            x = code_of(x)
+        elif not math.isfinite(x):
+            raise NonFiniteError(f"non-finite sample {x!r} (the anti-pulse stage alone takes finite samples)")
+        out, self.status = self._step(x if self.fixed else float(x))
+        return float(out)
+
+    def process(self, x):
+        return np.array([self.step(v) for v in np.asarray(x, dtype=float)])
+
+
+# ---- stage 3: scalar Kalman filter -----------------------------------------
+class Kalman1:
+    """A = 1, H = 1: P- = P + Q; K = P-/(P- + R); x += K (z - x); P = R K.
+    Fixed: runs on P/R with y = 1/(1 + K + q) by two Newton steps (see
+    csrc/include/sig_kalman1.h); samples are codes, x is Q24.7."""
+
+    def __init__(self, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False, fixed=False):
+        for name, v in (("Q", Q), ("R", R), ("x0", x0), ("P0", P0)):
+            _finite(name, v)
+        _check(Q >= 0, "Q", Q, "must be >= 0")
+        _check(R > 0, "R", R, "must be > 0")
+        _check(P0 >= 0, "P0", P0, "must be >= 0")
+        self.fixed, self.seed_first = bool(fixed), bool(seed_first)
+        self.Q, self.R, self.P0, self.x0 = float(Q), float(R), float(P0), float(x0)
+        if self.fixed:
+            self.q, self.p0, self.x0_q7 = kalman_fixed_params(Q, R, P0, x0)
+            self.y1 = (1 << 46) // (65536 + self.p0 + ((self.q + 8192) >> 14))
+        self.reset()
+
+    def reset(self):
+        self.seeded, self.status = False, OK
+        if self.fixed:
+            self.xq, self.innov_q, self.y, self.phase = self.x0_q7, 0, Q30, 0
+        else:
+            self._x, self._P, self._K, self._innov = self.x0, self.P0, 0.0, 0.0
+
+    def restart(self):
+        """P back to P0, x kept (motion-aware settling)."""
+        if self.fixed:
+            self.phase = 0
+        else:
+            self._P = self.P0
+
+    @staticmethod
+    def _newton(y, d):
+        t = mul_q30_u(d, y)
+        if t >= 1 << 31:
+            return y >> 1
+        return mul_q30_u(y, (1 << 31) - t)
+
+    def _step(self, z):
+        if not self.seeded:
+            self.seeded = True
+            if self.seed_first:
+                if self.fixed:
+                    self.xq = z
+                else:
+                    self._x = z
+        if not self.fixed:
+            pm = self._P + self.Q
+            den = pm + self.R
+            self._K = pm / den if math.isfinite(den) else 1.0 / (1.0 + self.R / pm)
+            self._P = self.R * self._K                 # = (1 - K) P-, without the cancellation
+            self._innov = z - self._x
+            if math.isfinite(self._innov):
+                self._x = self._x + self._K * self._innov
+            else:                                      # z - x overflowed: same update, other form
+                self._x = (1.0 - self._K) * self._x + self._K * z
+            return self._x
+        if self.phase == 0:
+            self.y, self.phase = self.y1, 1
+        elif self.phase != 3:
+            d = Q30 + (Q30 - self.y) + self.q
+            if self.phase == 1:
+                half = d >> 1
+                yn = 0x60000000 - half if half < 0x50000000 else 0x10000000
+            else:
+                yn = self.y
+            yn = self._newton(self._newton(yn, d), d)
+            yn = min(max(yn, 1), Q30)
+            self.phase = 3 if (self.phase == 2 and yn == self.y) else 2
+            self.y = yn
+        self.innov_q = sat32(z - self.xq)
+        self.xq = sat32(self.xq + mul_q30_gain(self.innov_q, Q30 - self.y))
+        return self.xq
+
+    def step(self, z):
+        if self.fixed:
+            out = self._step(clamp_code(code_of(z)) * 128) / 128
+        else:
+            if not math.isfinite(z):
+                raise NonFiniteError(f"non-finite sample {z!r} (the Kalman stage alone takes finite samples)")
+            out = self._step(float(z))
+        return float(out)
+
+    def process(self, z):
+        return np.array([self.step(v) for v in np.asarray(z, dtype=float)])
+
+    @property
+    def x(self):
+        return self.xq / 128 if self.fixed else self._x
+
+    @property
+    def K(self):
+        return (Q30 - self.y) / Q30 if self.fixed else self._K
+
+    @property
+    def P(self):
+        if not self.fixed:
+            return self._P
+        return self.p0 / 65536 * self.R if self.phase == 0 else self.K * self.R
+
+    @property
+    def innovation(self):
+        return self.innov_q / 128 if self.fixed else self._innov
+
+
+# ---- stage 4: stability detector -------------------------------------------
+class StabilityDetector:
+    """Stable when successive outputs differ by <= step for `count` samples."""
+
+    def __init__(self, step=0.01, count=1, fixed=False):
+        _finite("step", step)
+        _check(step >= 0, "step", step, "must be >= 0")
+        _check(int(count) == count and 1 <= count <= 255, "count", count, "must be an integer in 1..255")
+        self.fixed = bool(fixed)
+        self.step_value = _round_int32("step", step * 128) if self.fixed else float(step)
+        self.count = int(count)
+        self.reset()
+
+    def reset(self):
+        self.prev, self.run, self.has_prev, self.stable = 0, 0, False, False
+
+    def _step(self, x):
+        d = sat32(x - self.prev) if self.fixed else x - self.prev
+        if self.fixed:
+            within = min(abs(d), INT32_MAX) <= self.step_value
+        else:
+            within = d <= self.step_value and -d <= self.step_value
+        if self.has_prev and within:
+            self.run = min(self.run + 1, 255)
+        else:
+            self.run = 0
+        self.prev, self.has_prev = x, True
+        self.stable = self.run >= self.count
+        return self.stable
+
+    def step(self, x):
+        if self.fixed:
+            if not math.isfinite(x):
+                raise NonFiniteError(f"non-finite value {x!r}")
+            return self._step(sat32(int(round(x * 128))))
+        if not math.isfinite(x):
+            raise NonFiniteError(f"non-finite value {x!r} (the stability stage alone takes finite values)")
+        return self._step(float(x))
+
+    def process(self, x):
+        return np.array([self.step(v) for v in np.asarray(x, dtype=float)], dtype=bool)
+
+
+
+# ---- the noise estimator (csrc/weigh/sig_noise.c) ---------------------------------
+NOISE_FLOOR_Q7 = 32               # a quarter of one code, Q24.7
+NOISE_MAX_Q7 = 1 << 27            # 2^20 codes: 6 x this still fits int32
+NOISE_FLOOR_REL = 2.0 ** -24      # float floor: this fraction of |sample| ...
+NOISE_FLOOR_ABS = 1e-30           # ... and never below this
+NOISE_MAX_F = 1e300               # host double (the MCU float build caps at 1e36)
+NOISE_WARMUP = 24                 # updates before the estimator may be frozen
+
+
+class NoiseEstimator:
+    """Per-sample noise sigma from |x_k - x_{k-1}|: a quantile tracker that
+    moves up by sigma/2^s when |d| > sigma and down by (1 - 1/8) sigma/2^s
+    when |d| < sigma (s = 2, 3, 4, then 5 after 8, 24 and 56 updates).  For
+    Gaussian noise it settles where P(|d| > sigma) = 0.48, i.e. sigma ~ the
+    noise's standard deviation; a glitch or a step moves it by one step at
+    most.  Floor: a quarter code (fixed, Q24.7); float: a quarter of the
+    smallest non-zero |d| seen (one code of a quantised signal), 2^-24 |x|
+    and 1e-30, the largest of the three."""
+
+    def __init__(self, fixed=False):
+        self.fixed = bool(fixed)
+        self.reset()
+
+    def reset(self):
+        self.prev, self.has_prev, self.count = 0, False, 0
+        self.res = 0.0                  # float: smallest non-zero |d| seen (a code), 0 = none
+        self.sigma = NOISE_FLOOR_Q7 if self.fixed else NOISE_FLOOR_ABS
+
+    def floor(self, x):
+        if self.fixed:
+            return NOISE_FLOOR_Q7
+        return max(abs(x) * NOISE_FLOOR_REL, self.res * 0.25, NOISE_FLOOR_ABS)
+
+    def _step(self, x, update=True):
+        """x: a clamped code (fixed) or a float; non-finite: nothing changes."""
+        if not self.fixed and not math.isfinite(x):
+            return
+        if not self.fixed:
+            dd = abs(x - self.prev)
+            if self.has_prev and 0 < dd < NOISE_MAX_F and (dd < self.res or self.res == 0):
+                self.res = dd
+        if self.has_prev and update:
+            if self.fixed:
+                d = abs(x - self.prev)
+                d = INT32_MAX if d > (INT32_MAX >> 7) else d << 7
+            else:
+                d = abs(x - self.prev)
+            if self.count == 0:
+                self.sigma = min(d, NOISE_MAX_Q7 if self.fixed else NOISE_MAX_F)
+            else:
+                sh = 2 if self.count < 8 else 3 if self.count < NOISE_WARMUP else 4 if self.count < 56 else 5
+                if self.fixed:
+                    up = self.sigma >> sh
+                    down = up - (up >> 3)
+                    if d > self.sigma:
+                        self.sigma = min(self.sigma + up, NOISE_MAX_Q7)
+                    elif d < self.sigma:
+                        self.sigma -= down
+                else:
+                    up = self.sigma * 2.0 ** -sh
+                    down = up - up * 0.125
+                    if d > self.sigma:
+                        self.sigma = min(self.sigma + up, NOISE_MAX_F)
+                    elif d < self.sigma:
+                        self.sigma = self.sigma - down
+            self.count = min(self.count + 1, 255)
+        self.sigma = max(self.sigma, self.floor(x))
+        self.prev, self.has_prev = x, True
+
+    def process(self, x, update=None):
+        """Samples (optionally per-sample update flags) -> sigma after each."""
+        x = np.asarray(x, dtype=float)
+        up = np.ones(x.size, dtype=bool) if update is None else np.asarray(update, dtype=bool)
+        out = np.empty(x.size)
+        for i, v in enumerate(x):
+            self._step(clamp_code(code_of(v)) if self.fixed else float(v), bool(up[i]))
+            out[i] = self.value
+        return out
+
+    @property
+    def at_floor(self):
+        return self.sigma <= self.floor(self.prev)
+
+    @property
+    def value(self):
+        return self.sigma / 128 if self.fixed else self.sigma
+
+
+# Thresholds from the measured noise sigma (the "auto" preset): the C core
+# computes them from sigma with these factors (fixed: shifts and adds).
+NOISE_FROZEN_MAX = 64             # skip count from which motion is taken for noise
+
+
+def noise_thresholds(sigma, fixed=False):
+    """(a0, motion_band, stable_step, zero_band, zero_rate) from sigma (Q24.7
+    int for the fixed form, a0 then in codes; float otherwise)."""
+    if fixed:
+        a0 = max(((sigma << 2) + (sigma << 1) + 64) >> 7, 1)
+        return a0, sigma + (sigma >> 1), sigma >> 2, sigma << 1, sigma >> 4
+    return 6.0 * sigma, 1.5 * sigma, 0.25 * sigma, 2.0 * sigma, 0.0625 * sigma
+
+# ---- the chain ---------------------------------------------------------------
+class Chain:
+    """limit -> anti-pulse -> Kalman -> stability, with the lock-out fix,
+    motion-aware settling, tare and zero tracking, and in the auto preset
+    (the default) the thresholds following the noise measured on the fly
+    (csrc/weigh/sig_chain.c)."""
+
+    def __init__(self, preset="auto", fixed=False, units_per_kg=None, **overrides):
+        self.params = chain_params(preset, units_per_kg, **overrides)
+        self.fixed = bool(fixed)
+        p = self.params
+        if self.fixed:
+            self.fixed_params = f = chain_fixed_params(p)
+            self.limit = LimitFilter(f["a0"], f["lockout_n"], fixed=True)
+            self.motion_band, self.zero_band, self.zero_rate = (
+                f["motion_band_q7"], f["zero_band_q7"], f["zero_rate_q7"])
+        else:
+            self.limit = LimitFilter(p["A0"], p["lockout_n"])
+            self.motion_band, self.zero_band, self.zero_rate = (
+                p["motion_band"], p["zero_band"], p["zero_rate"])
+        self.ap = AntiPulse(p["window"], fixed=self.fixed)
+        self.kf = Kalman1(p["Q"], p["R"], p["x0"], p["P0"], p["seed_first"], fixed=self.fixed)
+        self.st = StabilityDetector(p["stable_step"], p["stable_count"], fixed=self.fixed)
+        self.motion_count = p["motion_count"]
+        self.noise_auto = bool(p["noise_auto"])
+        self.noise = NoiseEstimator(self.fixed)
+        self.reset()
+
+    def reset(self):
+        for stage in (self.limit, self.ap, self.kf, self.st, self.noise):
+            stage.reset()
+        self.offset_raw, self.out_raw, self.motion_run = 0, 0, 0
+        self.holdoff, self.frozen, self.rejected_prev = 0, 0, False
+        self.tare_pending, self.stable, self.has_out, self.status = False, False, False, OK
+        self._set_thresholds()
+
+    def _set_thresholds(self):
+        """The thresholds that follow the measured noise (auto mode only)."""
+        if self.noise_auto:
+            (self.limit.a0, self.motion_band, self.st.step_value, self.zero_band,
+             self.zero_rate) = noise_thresholds(self.noise.sigma, self.fixed)
+            if self.noise.count == 0:           # no difference seen yet: take every sample
+                self.limit.a0 = 2 * CODE_MAX if self.fixed else 6.0 * NOISE_MAX_F
+
+    def _restart_kf(self):
+        """The load moved: P back to P0; in auto mode the estimate also starts
+        again from the new samples (seed_first), keeping nothing of the old load."""
+        if self.noise_auto:
+            self.kf.reset()
+        else:
+            self.kf.restart()
+
+    def _noise_step(self, x, ret):
+        """After the stages: the estimator sees the sample unless it or the one
+        before was rejected as an impulse or the load is moving (a motion
+        restart or re-seed, then `window` samples of hold-off, or a motion run
+        under way).  A count goes up on each skipped sample and down on each
+        other one; from NOISE_FROZEN_MAX on, so much motion is noise and the
+        estimator sees every sample, with its warm-up steps again."""
+        event = (ret & (CHAIN_MOTION | LIMIT_RESEEDED)) != 0
+        rejected = (ret & WARN_REJECTED) != 0
+        if event:
+            self.holdoff = self.ap.n
+        elif self.holdoff:
+            self.holdoff -= 1
+        quiet = not (event or rejected or self.rejected_prev) and self.holdoff == 0 and self.motion_run == 0
+        self.rejected_prev = rejected
+        if quiet:
+            self.frozen, update = max(self.frozen - 1, 0), True
+        else:
+            self.frozen = min(self.frozen + 1, 2 * NOISE_FROZEN_MAX)
+            if self.frozen == NOISE_FROZEN_MAX:
+                self.noise.count = min(self.noise.count, 8)     # the noise changed: large steps again
+            update = self.frozen >= NOISE_FROZEN_MAX or self.noise.count < NOISE_WARMUP
+        self.noise._step(x, update)
+        self._set_thresholds()
+        return ret | CHAIN_NOISE_FLOOR if self.noise.at_floor else ret
+
+    def _kx(self):
+        return self.kf.xq if self.fixed else self.kf._x
+
+    def _step(self, x):
+        """One sample (code or float); returns (out in Q7 or float, stable, status)."""
+        ret = OK
+        if self.fixed and abs(x) > CODE_MAX:
+            x, ret = clamp_code(x), WARN_CLAMPED
+        y, st = self.limit._step(x)
+        if st < 0:
+            return None, False, st
+        ret |= st
+        if ret & LIMIT_RESEEDED:
+            self.ap.reset()
+            if self.motion_band > 0:
+                self._restart_kf()
+            self.motion_run = 0
+        m, _ = self.ap._step(y)
+        m_k = m * 128 if self.fixed else m
+        if self.motion_band > 0 and self.kf.seeded:
+            e = sat32(m_k - self._kx()) if self.fixed else m_k - self._kx()
+            if (min(abs(e), INT32_MAX) if self.fixed else abs(e)) > self.motion_band:
+                self.motion_run = min(self.motion_run + 1, 255)
+            else:
+                self.motion_run = 0
+            if self.motion_run >= self.motion_count:
+                self.ap.reset()
+                m, _ = self.ap._step(y)
+                m_k = m * 128 if self.fixed else m
+                self._restart_kf()
+                self.motion_run = 0
+                ret |= CHAIN_MOTION
+        self.limit.set_ref(m)
+        if self.noise_auto and (self.ap.count < self.ap.n or not self.stable):
+            self.kf.reset()             # settling: the window's trimmed mean is the estimate
+        xk = self.kf._step(m_k)
+        stab = self.st._step(xk)
+        if stab:
+            if self.tare_pending:
+                self.offset_raw, self.tare_pending = xk, False
+                ret |= CHAIN_TARED
+            elif self.zero_band > 0:
+                dz = sat32(xk - self.offset_raw) if self.fixed else xk - self.offset_raw
+                if (min(abs(dz), INT32_MAX) if self.fixed else abs(dz)) <= self.zero_band:
+                    dz = max(-self.zero_rate, min(self.zero_rate, dz))
+                    self.offset_raw = sat32(self.offset_raw + dz) if self.fixed else self.offset_raw + dz
+        self.out_raw = sat32(xk - self.offset_raw) if self.fixed else xk - self.offset_raw
+        self.stable, self.has_out = stab, True
+        if self.noise_auto:
+            ret = self._noise_step(x, ret)
+        return self.out_raw, stab, ret
+
+    def step(self, x):
+        """One sample -> (filtered, stable).  The status bits are in .status."""
+        out, stab, self.status = self._step(code_of(x) if self.fixed else float(x))
+        if out is None:
+            return float("nan"), False
+        return (out / 128 if self.fixed else float(out)), bool(stab)
+
+    def process(self, x, flags=False):
+        """Array in -> (filtered, stable[, status int16 per sample])."""
+        x = np.asarray(x, dtype=float)
+        if self.fixed and not np.all(np.isfinite(x)):
+            i = int(np.flatnonzero(~np.isfinite(x))[0])
+            raise NonFiniteError(f"sample {i}: non-finite value {float(x[i])!r}: the fixed form takes ADC codes")
+        out = np.empty(x.size)
+        stable = np.zeros(x.size, dtype=bool)
+        status = np.zeros(x.size, dtype=np.int16)
+        for i, v in enumerate(x):
+            out[i], stable[i] = self.step(v)
+            status[i] = self.status
+        return (out, stable, status) if flags else (out, stable)
+
+    def tare(self):
+        """Offset := current Kalman output if stable, else at the next stable
+        sample.  Returns True when applied now."""
+        if self.has_out and self.stable:
+            self.offset_raw, self.out_raw, self.tare_pending = self._kx(), 0, False
+            return True
+        self.tare_pending = True
+        return False
+
+    def set_offset(self, offset):
+        _finite("offset", offset)
+        self.offset_raw = _round_int32("offset", offset * 128) if self.fixed else float(offset)
+        self.tare_pending = False
+
+    @property
+    def offset(self):
+        return self.offset_raw / 128 if self.fixed else self.offset_raw
+
+    # the Kalman stage's estimate, variance and gain, as the chain shows them
+    x = property(lambda self: self.kf.x)
+    P = property(lambda self: self.kf.P)
+    K = property(lambda self: self.kf.K)
+
+    @property
+    def Dc(self):
+        return float(self.limit.Dc)
+
+    @property
+    def sigma(self):
+        """The noise sigma the thresholds follow: measured (auto mode) or sqrt(R)."""
+        if self.noise_auto:
+            return float(self.noise.value)
+        return math.sqrt(self.params["R"])
