@@ -34,7 +34,7 @@ import json
 from pathlib import Path
 
 from lab.mcu import runner, vectors
-from lab.mcu.cost_tables import (HARNESS, I_ACTIVE_A, IMAGES, MCLK_HZ, TCOMP_SRC, WHAT_3000_TAKES,
+from lab.mcu.cost_tables import (CHAIN_PORT_N, HARNESS, I_ACTIVE_A, IMAGES, MCLK_HZ, TCOMP_SRC, WHAT_3000_TAKES,
                                    chain_ops, chain_row_mcs51, chain_row_mcs51_port,
                                    chain_rows_msp430, estimator_cost, table1b, tcomp16_row,
                                    tcomp_fast_row, tcomp_ops, tcomp_row, tcomp_row_mcs51)
@@ -135,6 +135,7 @@ def table2(a):
             t2 += [chain_row_mcs51(f, case) for f in ("fixed", "float")]
     if not a.no_8051:
         t2.append(chain_row_mcs51_port()[0])
+        t2.append(chain_row_mcs51_port(vectors.chain_case(n=CHAIN_PORT_N, preset="auto"))[0])
     estimator_cost(t2)
     print("\nTable 2 - one weighing-chain step (limit + anti-pulse + Kalman + stability), "
           f"presets {vectors.CHAIN_PRESET!r} and 'auto' (the default: + noise estimator), "
@@ -147,7 +148,7 @@ def table2(a):
         if r.get("status") == "does not build":
             print(f"  {r['target']} {r['form']}: does not build - {'; '.join(r['error'])}")
         elif r["form"] == "fixed_port":
-            print(f"  {r['target']}: steady step {r['ms_12MHz_12T']} ms at 12 MHz (12T), "
+            print(f"  {r['target']} ({r['preset']}): steady step {r['ms_12MHz_12T']} ms at 12 MHz (12T), "
                   f"~{r['us_1T_estimate_12MHz']} us 1T estimate; motion-restart step "
                   f"{r['clocks_12T_restart']} 12T clocks; state {r['state_bytes_idata']} B "
                   f"indirect RAM, gain table {r['gain_table_bytes']} B code "
@@ -201,7 +202,7 @@ def targets(t1, t2, a, t1b=()):
         checks.append({"target": "fixed chain step on the 8051 <= 3000 12T clocks (portable C)",
                        "measured": c51.get("clocks_12T", c51.get("status")),
                        "met": c51.get("status") == "ok" and c51["clocks_12T"] <= 3000})
-    p51 = next((r for r in t2 if r["form"] == "fixed_port"), None)
+    p51 = next((r for r in t2 if r["form"] == "fixed_port" and r["preset"] == vectors.CHAIN_PRESET), None)
     if p51:
         checks.append({"target": "fixed chain steady-state step on the 8051 <= 3000 12T clocks "
                                  "(csrc/port/mcs51)",

@@ -13,6 +13,9 @@ from hypothesis import given, settings, strategies as st
 
 from pysig.weigh import Chain
 
+from test_chain import _state, split
+from test_chain_noise import auto_kwargs
+
 SETTINGS = settings(max_examples=150, deadline=None)
 
 
@@ -41,34 +44,12 @@ def dynamic_signals(draw):
     return x, sorted(draw(st.lists(st.integers(0, n), max_size=5)))
 
 
-@st.composite
-def auto_kwargs(draw):
-    kw = {}
-    if draw(st.booleans()):
-        kw.update(window=draw(st.integers(3, 32)), lockout_n=draw(st.integers(0, 6)),
-                  motion_count=draw(st.integers(1, 3)), stable_count=draw(st.integers(1, 6)),
-                  Q=draw(st.sampled_from([0.0, 1e-5, 1e-3, 0.1])), seed_first=draw(st.booleans()))
-    if draw(st.booleans()):
-        kw["R"] = draw(st.sampled_from([1e-4, 1.0, 4900.0]))     # sigma fixed instead of measured
-    return kw
-
-
-def _state(c):
-    return (c.x, c.K, c.P, c.innovation, c.Dc, c.window_count, c.offset, c.stable, c.tare_pending,
-            c.sigma)
-
-
-def _split(x, cuts):
-    edges = [0] + list(cuts) + [len(x)]
-    return [x[a:b] for a, b in zip(edges[:-1], edges[1:])]
-
-
 @SETTINGS
 @given(dynamic_signals(), auto_kwargs(), st.booleans())
 def test_auto_batch_equals_the_step_loop_split(sig, kw, tare):
     x, cuts = sig
     stepped, batch = Chain(**kw), Chain(**kw)
-    for part in _split(x, cuts):
+    for part in split(x, cuts):
         o1, s1, st1 = stepped.process(part, flags=True)
         o2, s2 = batch.process(part)
         np.testing.assert_array_equal(o1, o2)
@@ -76,6 +57,7 @@ def test_auto_batch_equals_the_step_loop_split(sig, kw, tare):
         if len(part):
             assert batch.status == st1[-1]
         assert _state(batch) == pytest.approx(_state(stepped), rel=0, abs=0, nan_ok=True)
+        assert batch.sigma == stepped.sigma
         if tare:
             assert batch.tare() == stepped.tare()
 

@@ -401,10 +401,11 @@ def chain_row_mcs51_port(case=None) -> tuple:
     from lab.mcu.host_port import gain_table
     case = case or vectors.chain_case(n=CHAIN_PORT_N)
     gains = gain_table(case.fixed["q_q30"], case.fixed["p0_q16"])
-    gen = runner.BUILD_DIR / "gen" / "chain-mcs51"
+    tag = "" if case.preset == vectors.CHAIN_PRESET else f"-{case.preset}"
+    gen = runner.BUILD_DIR / "gen" / f"chain-mcs51{tag}"
     vectors.write_chain_mcs51_header(case, gains, gen / "chain_vectors.h")
     img = runner.build_mcs51([CHAIN_MCS51], HARNESS / "chain_mcs51_harness.c", [],
-                             include_dirs=[gen, CHAIN_MCS51.parent], name="chain-mcs51",
+                             include_dirs=[gen, CHAIN_MCS51.parent], name=f"chain-mcs51{tag}",
                              extra_flags=MCS51_PORT_FLAGS)
     n = len(case.x)
     steady, restart = "sig_chain_mcs51_step", "sig_chain_mcs51_step@restart_step"
@@ -416,13 +417,13 @@ def chain_row_mcs51_port(case=None) -> tuple:
     _check_chain(case, "fixed", r["reads"])
     if not (_i16(r["reads"]["restart_status"])[0] & 32):
         raise SystemExit("8051 chain port: the restart step did not restart (no SIG_CHAIN_MOTION)")
-    IMAGES[("chain", "fixed", "mcs51-port")] = (img, r["funcs"][steady]["instructions"])
+    IMAGES[("chain" + tag, "fixed", "mcs51-port")] = (img, r["funcs"][steady]["instructions"])
     one, rs = r["funcs"][steady], r["funcs"][restart]
     clos = runner.code_closure(img, "sig_chain_mcs51_step")
     state = {v: _mcs51_ds_size(img, "sig_chain_mcs51", v) for v in
              ("sig_chain_mcs51", "sig_chain_mcs51_cfg", "sig_chain_mcs51_window")}
     row = {"target": "8051 (s51 -t C52, sdcc --model-large, csrc/port/mcs51)", "form": "fixed_port",
-           "status": "ok", "clocks_12T": one["cycles"], "instructions": one["instructions"],
+           "preset": case.preset, "status": "ok", "clocks_12T": one["cycles"], "instructions": one["instructions"],
            "clocks_12T_restart": rs["cycles"], "clocks_1T_estimate_restart": rs["clocks_1t_stc_y5"],
            "clocks_12T_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
            "ms_12MHz_12T": round(one["cycles"] / MCS51_HZ * 1e3, 3),
