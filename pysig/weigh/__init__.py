@@ -17,7 +17,7 @@ chain_fixed_params
 calibrate, Calibration,       counts -> mass from standard masses (JSON, C header)
 load_calibration
 find_plateaus                 the held levels of a recording (for calibration)
-plateaus_at_masses            the still loads of a raw log matched to the masses put on
+plateaus_at_masses            a raw log's still loads matched to the masses put on
 first_saturated,              a 24-bit converter's rail codes (never filtered)
 saturated_count
 analyse_recording,            the chain on a recording of held loads (the demo):

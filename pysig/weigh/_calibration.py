@@ -365,6 +365,15 @@ def plateaus_at_masses(x, masses, rate_hz, min_s=3.0):
         A mass listed twice, or more still loads in the log than masses.
     InsufficientDataError
         Fewer still loads in the log than masses.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> rng = np.random.default_rng(0)
+    >>> grams = np.r_[np.zeros(50), np.full(50, 52.7), np.zeros(50)]     # on, then off again
+    >>> codes = np.round(8000 + 430 * grams + rng.normal(0, 20, grams.size))
+    >>> [p.nominal for p in plateaus_at_masses(codes, [0, 52.7], rate_hz=10)]
+    [0.0, 52.7, 0.0]
     """
     masses = [float(m) for m in masses]
     if len(set(masses)) != len(masses):
