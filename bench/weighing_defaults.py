@@ -15,19 +15,18 @@ load).  Every configuration runs on every cell:
   recommended      Chain("recommended"): yesterday's default, as a new user
                    runs it (thresholds from a fixed R tuned on HX711 counts)
   paper            Chain("paper"): the weighing paper's parameters (kg)
-  hx711_adc        olkal/HX711_ADC: moving average of 16 samples without
-                   their highest and lowest (SAMPLES 16, IGN_HIGH_SAMPLE and
-                   IGN_LOW_SAMPLE 1)
+  hx711_adc        olkal/HX711_ADC as shipped: 18-sample set (SAMPLES 16 +
+                   IGN_HIGH_SAMPLE + IGN_LOW_SAMPLE) without its largest and
+                   smallest, >> 4
   median7          RobTillaart/HX711 read_median(7), as a running median
-  medavg7          RobTillaart/HX711 read_medavg(7): mean of the middle of
-                   the 7 sorted samples (indices (7+2)//4 .. 7-(7+2)//4-1)
-  average10        bogde/HX711 read_average(10), as a running mean of 10
-  simple_kalman    denyssene/SimpleKalmanFilter with a fixed measurement
-                   error: e_mea = e_est = the true sigma (given the answer),
-                   q = 0.005 sigma (the library example's q / e_mea)
+  medavg7          RobTillaart/HX711 read_medavg(7)
+  average10        bogde/HX711 read_average(10): sum / 10 on long
+  simple_kalman    denyssene/SimpleKalmanFilter(e_mea, e_mea, 0.01): e_mea =
+                   the true sigma (given the answer), q = 0.01 as its README
+                   recommends (q has no unit), float32, starting at 0
 
-The block reads of the Arduino libraries are run as sliding windows (one
-output per sample; a block read would only be slower to follow a step).
+Each peer's source file, default and arithmetic: bench/lab/studies/peers.py
+(shared with the other weighing benches).
 
 Per cell and configuration (JSON rows): config, unit, sigma_rel (sigma /
 step), glitch_rate, swing, steady_std_rel (std of output - level over the
@@ -35,7 +34,9 @@ second half of every plateau, / sigma), steady_err_rel (largest |median
 of output - level| over those halves, / sigma), settle_s (largest, over
 the steps, time from the change until the output is within +-sigma of the
 new level and stays there to the plateau's end; null when a step never
-settles), settle_s_median, glitch_excursion_rel (largest |output - output
+settles), settle_s_median, steps / steps_settled (steps that settle by
+mid-plateau) / steps_within_1_2_s, settle_s_each (every step's settle time,
+null when it does not settle), glitch_excursion_rel (largest |output - output
 of the same run without glitches| / sigma, from 3 s after each change to
 the plateau's end: a glitch that only shifts when a step is followed is
 not counted), sigma_hat_err_rel (default:
@@ -51,6 +52,14 @@ settle time uses the recording bench's band (+-0.05 lb) and definition
 (from the end of the previous plateau: the hand and the swing included) and
 "recommended" runs on kg with units_per_kg 1, as that bench runs it.
 A PNG: settle time against steady noise per configuration.
+
+"summary" (one row per configuration, over every grid cell and seed): the
+settle time, the steady noise and the glitch excursion as separate figures,
+each named for what it counts: steps, steps_settled (steps that settle by
+mid-plateau), settle_s_median_of_settled_steps and
+settle_s_p90_of_settled_steps, cells_every_step_settled,
+steady_std_rel_median_of_cells and _worst_cell,
+glitch_excursion_rel_median_of_cells and _worst_cell.
 """
 import argparse
 import json
@@ -64,6 +73,8 @@ from pysig.weigh import _recording as recording
 from pysig.weigh import Chain
 from pysig.weigh._calibration import settle_index
 
+from lab.studies.peers import PEERS, run_peer
+
 HERE = Path(__file__).resolve().parent
 SHARED = HERE.parent.parent / "shared" / "data" / "hx711_steps_10hz" / "hx711_steps_10hz.csv"
 RATE_HZ = 10.0
@@ -75,54 +86,9 @@ GLITCH_STEPS = 5.0
 # unit -> (step, offset, integer codes)
 UNITS = {"counts": (10000.0, 80000.0, True), "kg": (1.0, 0.0, False), "mV": (0.5, 1.2, False)}
 SEEDS = 2
-CONFIGS = ("default", "recommended", "paper", "hx711_adc", "median7", "medavg7", "average10",
-           "simple_kalman")
+CONFIGS = ("default", "recommended", "paper") + PEERS
 TOL_REL, TOL_SETTLE_S, TOL_ABS = 0.10, 0.1, 0.05
 SETTLED_FROM = 30                # samples after a change from which glitch excursions count (3 s)
-
-
-# ---- the peers: short, each as its library does it ----------------------------------
-def _windows(x, n):
-    """Sliding windows of the last n samples (the first ones: what is there)."""
-    pad = np.concatenate([np.full(n - 1, x[0]), x])
-    return np.lib.stride_tricks.sliding_window_view(pad, n)
-
-
-def hx711_adc(x):
-    """olkal/HX711_ADC smoothing: the sum of the last 16 samples minus the
-    largest and the smallest, over 14 (SAMPLES 16, IGN_HIGH/LOW_SAMPLE 1)."""
-    w = _windows(x, 16)
-    return (w.sum(axis=1) - w.max(axis=1) - w.min(axis=1)) / 14.0
-
-
-def median7(x):
-    """RobTillaart/HX711 read_median(7): the median of the last 7 samples."""
-    return np.median(_windows(x, 7), axis=1)
-
-
-def medavg7(x):
-    """RobTillaart/HX711 read_medavg(7): sort 7 samples, average indices
-    first = (7 + 2) // 4 .. 7 - first - 1 (the middle of the sorted run)."""
-    w = np.sort(_windows(x, 7), axis=1)
-    first = (7 + 2) // 4
-    return w[:, first:7 - first].mean(axis=1)
-
-
-def average10(x):
-    """bogde/HX711 read_average(10): the mean of the last 10 samples."""
-    return _windows(x, 10).mean(axis=1)
-
-
-def simple_kalman(x, e_mea, q):
-    """denyssene/SimpleKalmanFilter updateEstimate() with e_est = e_mea."""
-    out = np.empty(x.size)
-    est, last = e_mea, x[0]
-    for i, mea in enumerate(x):
-        gain = est / (est + e_mea)
-        cur = last + gain * (mea - last)
-        est = (1.0 - gain) * est + abs(last - cur) * q
-        last = out[i] = cur
-    return out
 
 
 def run_config(config, x, sigma):
@@ -140,10 +106,7 @@ def run_config(config, x, sigma):
         return c.process(x)[0], np.full(x.size, c.sigma)
     if config == "paper":
         return Chain("paper").process(x)[0], None
-    if config == "simple_kalman":
-        return simple_kalman(x, sigma, 0.005 * sigma), None
-    return {"hx711_adc": hx711_adc, "median7": median7, "medavg7": medavg7,
-            "average10": average10}[config](x), None
+    return run_peer(config, x, sigma), None
 
 
 # ---- the synthetic cells ------------------------------------------------------------
@@ -188,6 +151,7 @@ def cell_metrics(out, out_clean, level, sigma, step):
             "settle_s_median": float(np.median(done)) if done else None,
             "steps": len(settle), "steps_settled": len(done),
             "steps_within_1_2_s": sum(s <= 1.2 for s in done),
+            "settle_s_each": settle,
             "glitch_excursion_rel": excursion}
 
 
@@ -231,6 +195,7 @@ def merge(config, unit, sigma_rel, glitch_rate, swing, ms):
             "steps": sum(m["steps"] for m in ms),
             "steps_settled": sum(m["steps_settled"] for m in ms),
             "steps_within_1_2_s": sum(m["steps_within_1_2_s"] for m in ms),
+            "settle_s_each": [s for m in ms for s in m["settle_s_each"]],
             "glitch_excursion_rel": max(m["glitch_excursion_rel"] for m in ms),
             "sigma_hat_err_rel": max(sh, key=abs) if sh else None}
 
@@ -294,6 +259,29 @@ def goals(rows, verdicts, verdicts_loose):
             "met": not any(v["beaten_on_all_three_by"] for v in verdicts),
             "cells_beaten": sum(bool(v["beaten_on_all_three_by"]) for v in verdicts)},
     }
+
+
+def summary(rows):
+    """Per configuration over the grid: settle time, steady noise and glitch
+    excursion apart, each named for what it counts."""
+    out = []
+    for config in CONFIGS:
+        rs = [r for r in rows if r["config"] == config]
+        each = [s for r in rs for s in r["settle_s_each"]]
+        done = [s for s in each if s is not None]
+        std = [r["steady_std_rel"] for r in rs]
+        exc = [r["glitch_excursion_rel"] for r in rs]
+        out.append({
+            "config": config, "cells": len(rs),
+            "steps": len(each), "steps_settled": len(done),
+            "settle_s_median_of_settled_steps": float(np.median(done)) if done else None,
+            "settle_s_p90_of_settled_steps": float(np.percentile(done, 90)) if done else None,
+            "cells_every_step_settled": sum(r["settle_s"] is not None for r in rs),
+            "steady_std_rel_median_of_cells": float(np.median(std)),
+            "steady_std_rel_worst_cell": max(std),
+            "glitch_excursion_rel_median_of_cells": float(np.median(exc)),
+            "glitch_excursion_rel_worst_cell": max(exc)})
+    return out
 
 
 # ---- the real recording --------------------------------------------------------------
@@ -388,6 +376,16 @@ def print_tables(out):
         print(" | ".join([unit, f"1/{round(1 / srel)}", f"{g:.0%}", "yes" if sw else "no"] + [
             f"{fmt(by[c]['settle_s'], 1)} s / {by[c]['steady_std_rel']:.2f} / {by[c]['glitch_excursion_rel']:.2f}"
             for c in CONFIGS]))
+    print("\nPer configuration over the grid (README table)")
+    print("| config | steps that settle (within +-sigma by mid-plateau) | settle time of those steps, "
+          "median / 90th percentile (s) | steady std / sigma, median cell (worst cell) | "
+          "glitch excursion / sigma, median cell (worst cell) |")
+    print("|---|---|---|---|---|")
+    for r in out["summary"]:
+        print(f"| {r['config']} | {r['steps_settled']}/{r['steps']} | "
+              f"{fmt(r['settle_s_median_of_settled_steps'], 1)} / {fmt(r['settle_s_p90_of_settled_steps'], 1)} | "
+              f"{r['steady_std_rel_median_of_cells']:.3g} ({r['steady_std_rel_worst_cell']:.3g}) | "
+              f"{r['glitch_excursion_rel_median_of_cells']:.3g} ({r['glitch_excursion_rel_worst_cell']:.3g}) |")
     print("\nReal HX711 recording (lb; settle to +-0.05 lb as in bench/real_recordings.py)")
     head = ("channel", "config", "settle_s", "steady_std_rel", "steady_err_rel", "glitch_excursion_rel",
             "sigma_hat_err_rel")
@@ -443,7 +441,7 @@ def main(argv=None):
         with recording.bundled_csv() as path:
             real = real_rows(path)
     loose = judge(rows, glitch_slack=0.3)
-    out = {"rows": rows, "real_rows": real, "cells": verdicts, "goals": goals(rows, verdicts, loose),
+    out = {"summary": summary(rows), "rows": rows, "real_rows": real, "cells": verdicts, "goals": goals(rows, verdicts, loose),
            "grid": {"sigma_rel": SIGMA_REL, "units": {k: {"step": v[0], "offset": v[1], "integer": v[2]}
                                                       for k, v in UNITS.items()},
                     "glitch_rates": GLITCH_RATES, "glitch_steps": GLITCH_STEPS, "levels_steps": LEVELS,

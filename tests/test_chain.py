@@ -16,6 +16,10 @@ RTOL = 1e-9
 SETTINGS = settings(max_examples=120, deadline=None)
 
 
+# the input clamp's edges: on it, one code beyond, one code inside
+CLAMP_EDGES = [float(v) for c in (R.CODE_MAX, -R.CODE_MAX) for v in (c, c + np.sign(c), c - np.sign(c))]
+
+
 @st.composite
 def signals(draw, allow_nonfinite=False, extreme=False):
     """A load-cell-like signal: levels with steps, Gaussian noise, impulses,
@@ -23,14 +27,18 @@ def signals(draw, allow_nonfinite=False, extreme=False):
     n = draw(st.integers(1, 300))
     seed = draw(st.integers(0, 2**32 - 1))
     rng = np.random.default_rng(seed)
-    level = draw(st.floats(-1e6, 1e6))
+    # levels anywhere in the 24-bit range, some at the input clamp +-CODE_MAX
+    # (2^24 - 1) so that noise and steps cross it
+    level = float(draw(st.one_of(st.floats(-1e6, 1e6), st.floats(-R.CODE_MAX, R.CODE_MAX),
+                                 st.sampled_from([R.CODE_MAX, -R.CODE_MAX, R.CODE_MAX - 40, 40 - R.CODE_MAX]))))
     noise = draw(st.sampled_from([0.0, 1.0, 70.0, 3000.0]))
     x = np.full(n, level) + rng.normal(0, noise, n) if noise else np.full(n, level)
     for _ in range(draw(st.integers(0, 3))):                     # load steps
         i = int(rng.integers(0, n))
         x[i:] += draw(st.sampled_from([50.0, 500.0, 5000.0, -20000.0, 1e6]))
     for _ in range(draw(st.integers(0, 4))):                     # impulses
-        x[int(rng.integers(0, n))] = draw(st.sampled_from([-8388608.0, 8388607.0, -4.2e6, level + 1e5]))
+        x[int(rng.integers(0, n))] = draw(st.sampled_from([-8388608.0, 8388607.0, -4.2e6, level + 1e5,
+                                                           *CLAMP_EDGES]))
     if extreme:
         for _ in range(draw(st.integers(0, 3))):
             x[int(rng.integers(0, n))] = draw(st.sampled_from([2.0**31 - 1, -(2.0**31), 1e12, -3e7]))
@@ -239,6 +247,20 @@ def test_stage_fixed_bit_exact_and_float_close(name, kw, sig):
         np.testing.assert_array_equal(c_float, r_float)
     else:
         np.testing.assert_allclose(c_float, r_float, rtol=RTOL, atol=RTOL * (1 + np.abs(r_float).max()))
+
+
+@settings(max_examples=150, deadline=None)
+@given(sig=signals(extreme=True),
+       step=st.one_of(st.sampled_from([0.0, 1 / 128, 0.5, 10.0]), st.floats(0.0, 1e7)),
+       count=st.one_of(st.sampled_from([1, 2, 255]), st.integers(1, 255)))
+def test_stability_detector_over_parameters(sig, step, count):
+    """The stability stage over its parameter range (step from zero to 1e7,
+    count 1..255: the run counter saturates at 255): C == spec, fixed bit for
+    bit and float, state carried across split calls."""
+    x, cuts = sig
+    for fixed in (True, False):
+        c = run_split(C.StabilityDetector(step=step, count=count, fixed=fixed), x, cuts)
+        np.testing.assert_array_equal(c, R.StabilityDetector(step=step, count=count, fixed=fixed).process(x))
 
 
 def test_antipulse_fill_rule_and_exact_rounded_mean():

@@ -4,11 +4,13 @@ read glitches near -2^23).  Behaviour with margins, not exact numbers:
 the recommended preset and the default (auto) let no glitch through, reaches every
 plateau and settles; the weighing paper's parameters lock out on the first step.
 
-Measured when this test was written (float and fixed alike): settle times
-lc1 1.4-5.8 s (median 2.9 s), lc2 1.4-4.0 s (median 2.5 s) from the
-first sample that leaves the previous level by 300 counts to stable and
-within 50 counts (0.05 lb) for good; the 5.8 s plateau is one whose raw level
-itself wanders by ~60 counts."""
+Measured (default chain, float and fixed): settle times lc1 1.4-6.2 s
+(median 2.0 s), lc2 1.6-3.7 s float, 1.6-4.3 s fixed (median 2.05 s), from
+the first sample that leaves the previous level by 300 counts to stable AND
+within 50 counts (0.05 lb) for good; the 6.2 s plateau is one whose raw level
+itself wanders by ~60 counts.  The bounds sit just above these figures (the
+README's 5.8 s / 3.7 s count to within 0.05 lb without the stable flag, from
+the end of the previous plateau, bench/real_recordings.py)."""
 import numpy as np
 import pytest
 from scipy.ndimage import median_filter
@@ -20,6 +22,7 @@ from pysig.io import read_csv
 FS = 10.0
 COUNTS_PER_LB = 1000.0
 TOL = 50.0                                   # 0.05 lb
+SETTLE_MAX_S = {"lc1_counts": 6.5, "lc2_counts": 4.5}   # measured 6.2 s and 4.3 s (docstring)
 
 
 @pytest.fixture(scope="module")
@@ -69,7 +72,7 @@ def test_recommended_on_loaded_cells(rec, channel, fixed):
         assert abs(np.mean(out[b - 45:b - 15]) - target) < TOL
         assert np.std(out[a + 40:b - 25]) < np.std(x[a + 40:b - 25]) / 1.4
     t = settle_times(x, out, stable)
-    assert np.all(t <= 8.0) and np.median(t) <= 3.5, t
+    assert np.all(t <= SETTLE_MAX_S[channel]) and np.median(t) <= 2.3, t
 
 
 @pytest.mark.parametrize("channel", ["lc1_counts", "lc2_counts"])

@@ -19,7 +19,7 @@ from conftest import ROOT, require_shared_data, require_tool
 
 from lab.mcu import runner
 from pysig.status import Status, Warn
-from pysig.tcomp._tcomp import image_select_slot
+from pysig.store._image_c import image_select_slot
 from pysig.tcomp._tcomp16 import Tcomp16Q
 from pysig.weigh import Chain
 

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
+from pysig.store import _image_c
 from pysig.tcomp import _tcomp
 from pysig.tcomp import _poly_fit as fit
 from pysig.store import _image as image
@@ -28,14 +29,14 @@ def old_new():
 
 
 def test_crc16_check_value():
-    assert _tcomp.crc16(b"123456789") == 0x29B1 == ref.crc16_ccitt(b"123456789")
-    assert _tcomp.crc16(b"") == 0xFFFF
+    assert _image_c.crc16(b"123456789") == 0x29B1 == ref.crc16_ccitt(b"123456789")
+    assert _image_c.crc16(b"") == 0xFFFF
 
 
 @settings(max_examples=200, deadline=None)
 @given(st.binary(max_size=300))
 def test_crc16_c_equals_reference(data):
-    assert _tcomp.crc16(data) == ref.crc16_ccitt(data)
+    assert _image_c.crc16(data) == ref.crc16_ccitt(data)
 
 
 @st.composite
@@ -59,20 +60,20 @@ def test_validate_and_find_c_equals_reference_on_mutations(img, data):
     elif kind == "length" and len(buf) >= 8:
         struct.pack_into("<H", buf, 6, data.draw(st.integers(0, 0xFFFF)))
     buf = bytes(buf)
-    assert _tcomp.image_validate(buf) == ref.validate(buf)
+    assert _image_c.image_validate(buf) == ref.validate(buf)
     if kind == "none":
         assert ref.validate(buf) == ref.SIG_OK
     for typ in (1, 2, 7, 0x8000):
-        assert _tcomp.image_find_section(buf, typ) == ref.find_section(buf, typ)
+        assert _image_c.image_find_section(buf, typ) == ref.find_section(buf, typ)
 
 
 def test_generic_sections_round_trip_and_unknown_types_are_skipped():
     secs = [(image.SECTION_PWL_TABLE, b"\x01\x02\x03"), (0x8123, b""), (image.SECTION_GAIN_POLY, bytes(range(50)))]
     img = image.build_image(secs, sequence=77)
     assert image.read_image(img) == (77, secs)
-    assert _tcomp.image_find_section(img, image.SECTION_GAIN_POLY) == (0, bytes(range(50)))
-    assert _tcomp.image_find_section(img, image.SECTION_OFFSET_POLY) == (ref.SIG_ERR_EMPTY, None)
-    assert _tcomp.image_sequence(img) == (0, 77)
+    assert _image_c.image_find_section(img, image.SECTION_GAIN_POLY) == (0, bytes(range(50)))
+    assert _image_c.image_find_section(img, image.SECTION_OFFSET_POLY) == (ref.SIG_ERR_EMPTY, None)
+    assert _image_c.image_sequence(img) == (0, 77)
 
 
 def test_offset_section_c_loader_equals_python(old_new):
@@ -125,7 +126,7 @@ def slot(content, fill=0xFF):
 def load(slot_a, slot_b):
     """What the firmware does at boot: choose a slot, load it with the C
     loader.  Returns (which, fields) or (None, None)."""
-    st_c, which = _tcomp.image_select_slot(slot_a, slot_b)
+    st_c, which = _image_c.image_select_slot(slot_a, slot_b)
     assert (st_c, which) == ref.select_slot(slot_a, slot_b)
     if st_c != 0:
         return None, None
@@ -188,8 +189,8 @@ def test_power_cut_after_every_byte_and_bit(old_new):
 
 
 def test_nothing_valid_is_reported_empty():
-    assert _tcomp.image_select_slot(slot(b""), slot(b"")) == (ref.SIG_ERR_EMPTY, None)
-    assert _tcomp.image_select_slot(None, None) == (ref.SIG_ERR_EMPTY, None)
+    assert _image_c.image_select_slot(slot(b""), slot(b"")) == (ref.SIG_ERR_EMPTY, None)
+    assert _image_c.image_select_slot(None, None) == (ref.SIG_ERR_EMPTY, None)
 
 
 @pytest.mark.parametrize("seq_a, seq_b, which", [
@@ -198,8 +199,8 @@ def test_nothing_valid_is_reported_empty():
 def test_sequence_numbers_wrap(seq_a, seq_b, which):
     a = slot(image.build_image([(7, b"a")], seq_a))
     b = slot(image.build_image([(7, b"b")], seq_b))
-    assert _tcomp.image_select_slot(a, b) == (0, which) == ref.select_slot(a, b)
-    assert _tcomp.image_select_slot(None, b) == (0, 1)
+    assert _image_c.image_select_slot(a, b) == (0, which) == ref.select_slot(a, b)
+    assert _image_c.image_select_slot(None, b) == (0, 1)
 
 
 def test_offset_section_with_u_shift_above_15_is_refused():

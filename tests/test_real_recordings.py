@@ -5,7 +5,7 @@ with margins, not exact numbers.  Runs on the copy bundled in pysig/data
 import numpy as np
 import pytest
 
-from conftest import SHARED_DATA
+from conftest import require_shared_data
 import pysig.weigh as chain
 from pysig.weigh import _recording as recording
 from pysig.errors import InputFileError
@@ -32,9 +32,7 @@ def loaded(data):
 
 
 def test_bundled_copy_is_the_shared_recording():
-    shared = SHARED_DATA / "hx711_steps_10hz" / "hx711_steps_10hz.csv"
-    if not shared.exists():
-        pytest.skip("../shared/data not present")
+    shared = require_shared_data("hx711_steps_10hz/hx711_steps_10hz.csv")   # in CI: must be there
     with recording.bundled_csv() as path:
         assert path.read_bytes() == shared.read_bytes()
 

@@ -29,8 +29,8 @@ def clean_clone(dest):
     return dest
 
 
-def build_wheel(src, out):
-    run = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", str(out), "."],
+def build_wheel(src, out, *options):
+    run = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", *options, "-w", str(out), "."],
                          cwd=src, capture_output=True, text=True)
     assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
     wheels = sorted(out.glob("pysig-*.whl"))
@@ -43,7 +43,9 @@ def wheel_names(tmp_path_factory):
     tmp = tmp_path_factory.mktemp("wheel")
     src = clean_clone(tmp / "clone")
     first = build_wheel(src, tmp / "first")
-    second = build_wheel(src, tmp / "second")       # the same clone, its build/ kept
+    # The same clone, its build/ kept: the first build's isolated environment
+    # (its cmake and ninja) is gone, as after a `git pull` and reinstall.
+    second = build_wheel(src, tmp / "second", "--no-build-isolation")
     with zipfile.ZipFile(first) as a, zipfile.ZipFile(second) as b:
         assert sorted(a.namelist()) == sorted(b.namelist())
         return a.namelist()

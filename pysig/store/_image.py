@@ -10,7 +10,9 @@ section of pysig.tcomp._quant.CompactModel (`compact_poly_payload`,
 `parse_compact_poly`, `compact_image`; C loader sig_tcomp16_load_image)."""
 import struct
 
+from . import _image_c
 from ..errors import ModelFileError, RangeError
+from ..status import Status
 
 SECTION_OFFSET_POLY = 1
 SECTION_GAIN_POLY = 2
@@ -38,24 +40,16 @@ MAX_LEN = 65535
 TCODE_INT16, TCODE_UINT16 = 0, 1
 
 
-def _crc_table():
-    table = []
-    for byte in range(256):
-        crc = byte << 8
-        for _ in range(8):
-            crc = ((crc << 1) ^ 0x1021) if crc & 0x8000 else (crc << 1)
-        table.append(crc & 0xFFFF)
-    return tuple(table)
-
-
-_CRC_TABLE = _crc_table()
-
-
 def crc16_ccitt(data, crc=0xFFFF):
-    """CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF), table driven."""
-    for byte in bytes(data):
-        crc = ((crc << 8) & 0xFFFF) ^ _CRC_TABLE[(crc >> 8) ^ byte]
-    return crc
+    """CRC-16/CCITT-FALSE (poly 0x1021, init 0xFFFF): the C core's
+    sig_crc16_ccitt, continuing from `crc`.
+
+    Examples
+    --------
+    >>> hex(crc16_ccitt(b"123456789"))
+    '0x29b1'
+    """
+    return _image_c.crc16(data, crc)
 
 
 def build_image(sections, sequence=1):
@@ -102,25 +96,13 @@ def build_image(sections, sequence=1):
     return data + struct.pack("<H", crc16_ccitt(data))
 
 
-def _image_problem(data):
-    """None for a valid image, else what is wrong (the checks of sig_image_validate)."""
-    if len(data) < MIN_LEN or data[:4] != MAGIC or data[4] != FORMAT_VERSION or data[5] != 0:
-        return "bad magic, version, length or section layout"
-    total = struct.unpack_from("<H", data, 6)[0]
-    if not MIN_LEN <= total <= len(data):
-        return "bad magic, version, length or section layout"
-    end = total - CRC_LEN
-    if crc16_ccitt(data[:end]) != struct.unpack_from("<H", data, end)[0]:
-        return "CRC mismatch (corrupt or partly written)"
-    pos = HEADER_LEN
-    while pos < end:
-        if end - pos < SECTION_HDR_LEN:
-            return "bad magic, version, length or section layout"
-        typ, plen = struct.unpack_from("<HH", data, pos)
-        pos += SECTION_HDR_LEN + plen
-        if typ == 0 or pos > end:
-            return "bad magic, version, length or section layout"
-    return None
+def _check_valid(data, where):
+    """The C reader's verdict (sig_image_validate), as a named error."""
+    status = _image_c.image_validate(data)
+    if status == Status.ERR_CRC:
+        raise ModelFileError(f"{where}: corrupt coefficient image: CRC mismatch (corrupt or partly written)")
+    if status != Status.OK:
+        raise ModelFileError(f"{where}: corrupt coefficient image: bad magic, version, length or section layout")
 
 
 def read_image(data, where="image"):
@@ -153,9 +135,7 @@ def read_image(data, where="image"):
     pysig.errors.ModelFileError: image: corrupt coefficient image: CRC mismatch (corrupt or partly written)
     """
     data = bytes(data)
-    problem = _image_problem(data)
-    if problem:
-        raise ModelFileError(f"{where}: corrupt coefficient image: {problem}")
+    _check_valid(data, where)
     end = struct.unpack_from("<H", data, 6)[0] - CRC_LEN
     out, pos = [], HEADER_LEN
     while pos < end:
@@ -204,11 +184,12 @@ def find_section(data, typ, where="image"):
         ...
     pysig.errors.ModelFileError: image: no section of type 1 in the image
     """
-    _, sections = read_image(data, where)
-    for t, p in sections:
-        if t == typ:
-            return p
-    raise ModelFileError(f"{where}: no section of type {typ} in the image")
+    data = bytes(data)
+    _check_valid(data, where)
+    status, payload = _image_c.image_find_section(data, typ)
+    if status != Status.OK:
+        raise ModelFileError(f"{where}: no section of type {typ} in the image")
+    return payload
 
 
 def offset_poly_payload(model):

@@ -1,7 +1,7 @@
 # cython: language_level=3
-"""Cython bridge to csrc/tcomp/sig_poly.c, sig_tcomp.c, sig_crc16.c and
-sig_image.c: the temperature compensation the firmware runs, over numpy
-arrays, and the C loader of the coefficient image."""
+"""Cython bridge to csrc/tcomp/sig_poly.c and sig_tcomp.c: the
+temperature compensation the firmware runs, over numpy arrays, and its C
+image loader (sig_tcomp_load_image)."""
 import numpy as np
 cimport numpy as cnp
 from libc.stdint cimport int16_t, int32_t, uint8_t, uint16_t, uint32_t
@@ -21,17 +21,6 @@ cdef extern from "sig_poly.h":
     int32_t sig_mul_q15_32x16(int32_t a, int16_t u) nogil
     sig_status sig_poly_horner_q15(const int32_t *c, uint8_t order, int16_t u, int32_t *out) nogil
     sig_status sig_poly_horner_f(const sig_real *c, uint8_t order, sig_real u, sig_real *out) nogil
-
-cdef extern from "sig_crc16.h":
-    uint16_t sig_crc16_ccitt(uint16_t crc, const uint8_t *data, size_t len) nogil
-
-cdef extern from "sig_image.h":
-    sig_status sig_image_validate(const uint8_t *buf, size_t len) nogil
-    sig_status sig_image_sequence(const uint8_t *buf, size_t len, uint32_t *seq) nogil
-    sig_status sig_image_find_section(const uint8_t *buf, size_t len, uint16_t type,
-                                      const uint8_t **payload, uint16_t *payload_len) nogil
-    sig_status sig_image_select_slot(const uint8_t *slot_a, size_t len_a, const uint8_t *slot_b,
-                                     size_t len_b, uint8_t *which) nogil
 
 cdef extern from "sig_tcomp.h":
     ctypedef struct sig_tcomp_f:
@@ -73,53 +62,6 @@ def horner_f(coef, double u):
     cdef double out = 0.0
     st = sig_poly_horner_f(&c[0], <uint8_t>(c.shape[0] - 1), u, &out)
     return out, st
-
-
-def crc16(data):
-    cdef const uint8_t[::1] b = bytes(data)
-    if len(b) == 0:
-        return sig_crc16_ccitt(0xFFFF, NULL, 0)
-    return sig_crc16_ccitt(0xFFFF, &b[0], len(b))
-
-
-def image_validate(data):
-    """Status of sig_image_validate."""
-    cdef const uint8_t[::1] b = bytes(data) + b"\0"   # never an empty view
-    return sig_image_validate(&b[0], len(data))
-
-
-def image_sequence(data):
-    cdef const uint8_t[::1] b = bytes(data) + b"\0"
-    cdef uint32_t seq = 0
-    st = sig_image_sequence(&b[0], len(data), &seq)
-    return st, (seq if st == 0 else None)
-
-
-def image_find_section(data, int type_id):
-    """(status, payload bytes or None) of sig_image_find_section."""
-    cdef bytes raw = bytes(data) + b"\0"
-    cdef const uint8_t[::1] b = raw
-    cdef const uint8_t *p = NULL
-    cdef uint16_t plen = 0
-    if not 0 <= type_id <= 0xFFFF:
-        raise RangeError(f"section type {type_id} outside uint16")
-    st = sig_image_find_section(&b[0], len(data), <uint16_t>type_id, &p, &plen)
-    if st != 0:
-        return st, None
-    off = p - &b[0]
-    return st, raw[off:off + plen]
-
-
-def image_select_slot(slot_a, slot_b):
-    """(status, which) of sig_image_select_slot: which 0 = A, 1 = B, None
-    when neither slot holds a valid image.  A slot may be None."""
-    cdef const uint8_t[::1] a = (bytes(slot_a) if slot_a is not None else b"") + b"\0"
-    cdef const uint8_t[::1] b = (bytes(slot_b) if slot_b is not None else b"") + b"\0"
-    cdef uint8_t which = 255
-    st = sig_image_select_slot(&a[0] if slot_a is not None else NULL, len(slot_a) if slot_a is not None else 0,
-                               &b[0] if slot_b is not None else NULL, len(slot_b) if slot_b is not None else 0,
-                               &which)
-    return st, (which if st == 0 else None)
 
 
 cdef class TcompQ:

@@ -212,8 +212,7 @@ def chain_rows_msp430(form: str, hwmult: bool, case, vdd: float) -> dict:
     img = runner.build_msp430(CHAIN_SRC, HARNESS / "chain_harness.c", ["BENCH_FLOAT"] if fl else [],
                               hwmult=hwmult, include_dirs=[gen], name=f"chain{_chain_tag(case)}-{form}")
     n = len(case.x)
-    r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
-                       reads={"vec_out": 4 * n, "vec_status": 2 * n})
+    r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"], reads=_chain_reads(n))
     _check_chain(case, form, r["reads"])
     IMAGES[("chain" + _chain_tag(case), form, hwmult)] = (img, r["funcs"][func]["instructions"])
     clos = runner.code_closure(img, func)
@@ -231,19 +230,42 @@ def chain_rows_msp430(form: str, hwmult: bool, case, vdd: float) -> dict:
             "stack_bytes": one["stack_bytes"], "ops": chain_ops(form), "checked_samples": n}
 
 
-def _check_chain(case, form, reads):
+def _same_outputs(form, fw_bytes, host_out):
+    """firmware outputs (raw bytes: fixed Q7 int32, float f32) == host C's"""
+    if form == "fixed":
+        return np.array_equal(np.frombuffer(fw_bytes, "<i4"), np.round(host_out * 128).astype(np.int64))
+    fw = np.frombuffer(fw_bytes, "<f4").astype(float)
+    return bool(np.all(np.abs(fw - host_out) <= 1e-5 * np.maximum(1, np.abs(host_out))))
+
+
+def _check_chain(case, form, reads, timed=(("one", 0),)):
+    """Every batch output and status, and every timed single step's output,
+    status (and stable flag where the harness keeps it) against the host C
+    chain run on the same input.  timed: (name, k): the harness's name_out /
+    name_status after the batch, one_x and then k more samples of the
+    restart plan."""
     from pysig.weigh import Chain
     n = len(case.x)
-    out, _, st = Chain(case.preset, fixed=form == "fixed").process(case.x.astype(float), flags=True)
-    fw_st = _i16(reads["vec_status"])
-    if form == "fixed":
-        fw = np.frombuffer(reads["vec_out"], "<i4")
-        ok = np.array_equal(fw, np.round(out * 128).astype(np.int64))
-    else:
-        fw = np.frombuffer(reads["vec_out"], "<f4").astype(float)
-        ok = np.all(np.abs(fw - out) <= 1e-5 * np.maximum(1, np.abs(out)))
-    if not (ok and np.array_equal(fw_st, st)):
+    seq = [case.x.astype(float), [float(case.one_x)]]
+    if any(k for _, k in timed):
+        rx, pre = vectors.chain_restart_plan(case)
+        seq.append(np.full(pre + 1, float(rx)))
+    out, stable, st = Chain(case.preset, fixed=form == "fixed").process(np.concatenate(seq), flags=True)
+    ok = _same_outputs(form, reads["vec_out"], out[:n]) and np.array_equal(_i16(reads["vec_status"]), st[:n])
+    if not ok:
         raise SystemExit(f"chain {form}: firmware results differ from the host C ({n} samples)")
+    for name, k in timed:
+        i = n + k
+        step_ok = (_same_outputs(form, reads[f"{name}_out"], out[i:i + 1])
+                   and int(_i16(reads[f"{name}_status"])[0]) == int(st[i])
+                   and (f"{name}_stable" not in reads or bool(reads[f"{name}_stable"][0]) == bool(stable[i])))
+        if not step_ok:
+            raise SystemExit(f"chain {form}: the timed step '{name}' (sample {i}) differs from the host C")
+
+
+def _chain_reads(n):
+    """what a chain harness leaves to check: the batch and the timed step"""
+    return {"vec_out": 4 * n, "vec_status": 2 * n, "one_out": 4, "one_status": 2, "one_stable": 1}
 
 
 MCS51_CHAIN_FLAGS = ["--stack-auto"]
@@ -270,27 +292,27 @@ def chain_row_mcs51(form: str, case) -> dict:
     opcode histogram x STC-Y5 table.  Code: the functions reachable from the
     step (.rst call graph); RAM: chain state (xdata) + internal-RAM stack
     high-water of the call."""
-    gen = runner.BUILD_DIR / "gen" / f"chain{_chain_tag(case)}"
+    n = len(case.x)
+    tag = _chain_tag(case) + ("" if n == len(vectors.chain_case().x) else f"-n{n}")
+    gen = runner.BUILD_DIR / "gen" / f"chain{tag}"
     vectors.write_chain_header(case, gen / "chain_vectors.h")
     fl = form == "float"
     func = "sig_chain_step_f" if fl else "sig_chain_step_q"
     row = {"target": "8051 (s51 -t C52, sdcc --model-large --stack-auto)", "form": form,
-           "preset": case.preset, "ops": chain_ops(form)}
+           "preset": case.preset, "samples_before_timed_step": n, "ops": chain_ops(form)}
     try:
         img = runner.build_mcs51(CHAIN_SRC, HARNESS / "chain_harness.c",
                                  ["BENCH_FLOAT"] if fl else [], include_dirs=[gen],
-                                 name=f"chain{_chain_tag(case)}-{form}", extra_flags=MCS51_CHAIN_FLAGS)
+                                 name=f"chain{tag}-{form}", extra_flags=MCS51_CHAIN_FLAGS)
     except runner.McuError as e:
         row.update(status="does not build", error=[ln for ln in str(e).splitlines()
                                                     if "ASlink-Error" in ln or "warning" in ln])
         return row
-    n = len(case.x)
-    r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
-                       reads={"vec_out": 4 * n, "vec_status": 2 * n})
+    r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"], reads=_chain_reads(n))
     if r["total"].get("stack_overflow"):
         raise SystemExit(f"chain {form} on the 8051: the stack passed 0xFF (s51)")
     _check_chain(case, form, r["reads"])
-    IMAGES[("chain" + _chain_tag(case), form, "mcs51")] = (img, r["funcs"][func]["instructions"])
+    IMAGES[("chain" + tag, form, "mcs51")] = (img, r["funcs"][func]["instructions"])
     one = r["funcs"][func]
     clos = runner.code_closure(img, func)
     state = _mcs51_xdata_size(img, "chain")
@@ -400,30 +422,31 @@ def chain_row_mcs51_port(case=None) -> tuple:
     settled) and the motion-restart step, each counted entry to return."""
     from lab.mcu.host_port import gain_table
     case = case or vectors.chain_case(n=CHAIN_PORT_N)
+    n = len(case.x)
     gains = gain_table(case.fixed["q_q30"], case.fixed["p0_q16"])
-    tag = "" if case.preset == vectors.CHAIN_PRESET else f"-{case.preset}"
+    tag = ("" if case.preset == vectors.CHAIN_PRESET else f"-{case.preset}") + ("" if n == CHAIN_PORT_N else f"-n{n}")
     gen = runner.BUILD_DIR / "gen" / f"chain-mcs51{tag}"
     vectors.write_chain_mcs51_header(case, gains, gen / "chain_vectors.h")
     img = runner.build_mcs51([CHAIN_MCS51], HARNESS / "chain_mcs51_harness.c", [],
                              include_dirs=[gen, CHAIN_MCS51.parent], name=f"chain-mcs51{tag}",
                              extra_flags=MCS51_PORT_FLAGS)
-    n = len(case.x)
     steady, restart = "sig_chain_mcs51_step", "sig_chain_mcs51_step@restart_step"
+    _, pre = vectors.chain_restart_plan(case)
     r = runner.measure(img, funcs=[steady, restart], regions=["bench_start:bench_stop"],
-                       reads={"vec_out": 4 * n, "vec_status": 2 * n, "vec_stable": n,
-                              "restart_status": 2, "one_status": 2})
+                       reads=dict(_chain_reads(n), vec_stable=n, restart_out=4, restart_status=2))
     if r["total"].get("stack_overflow"):
         raise SystemExit("8051 chain port: the stack passed 0xFF (s51)")
-    _check_chain(case, "fixed", r["reads"])
+    _check_chain(case, "fixed", r["reads"], timed=(("one", 0), ("restart", pre + 1)))
     if not (_i16(r["reads"]["restart_status"])[0] & 32):
         raise SystemExit("8051 chain port: the restart step did not restart (no SIG_CHAIN_MOTION)")
-    IMAGES[("chain" + tag, "fixed", "mcs51-port")] = (img, r["funcs"][steady]["instructions"])
+    IMAGES[("chain", "fixed", "mcs51-port" + tag)] = (img, r["funcs"][steady]["instructions"])
     one, rs = r["funcs"][steady], r["funcs"][restart]
     clos = runner.code_closure(img, "sig_chain_mcs51_step")
     state = {v: _mcs51_ds_size(img, "sig_chain_mcs51", v) for v in
              ("sig_chain_mcs51", "sig_chain_mcs51_cfg", "sig_chain_mcs51_window")}
     row = {"target": "8051 (s51 -t C52, sdcc --model-large, csrc/port/mcs51)", "form": "fixed_port",
-           "preset": case.preset, "status": "ok", "clocks_12T": one["cycles"], "instructions": one["instructions"],
+           "preset": case.preset, "samples_before_timed_step": n,
+           "status": "ok", "clocks_12T": one["cycles"], "instructions": one["instructions"],
            "clocks_12T_restart": rs["cycles"], "clocks_1T_estimate_restart": rs["clocks_1t_stc_y5"],
            "clocks_12T_avg_batch": round(r["regions"]["bench_start:bench_stop"]["cycles"] / n, 1),
            "ms_12MHz_12T": round(one["cycles"] / MCS51_HZ * 1e3, 3),
@@ -441,12 +464,25 @@ def chain_row_mcs51_port(case=None) -> tuple:
     return row, img
 
 
+def port_speedup(t2):
+    """port rows: the portable fixed step (same preset, same input, the same
+    number of samples before the timed step) over the port's, for the single
+    timed step and the batch average; set in place."""
+    portable = {(r["preset"], r["samples_before_timed_step"]): r for r in t2
+                if r["target"].startswith("8051") and r["form"] == "fixed" and r.get("status") == "ok"}
+    for r in t2:
+        base = portable.get((r.get("preset"), r.get("samples_before_timed_step")))
+        if r["form"] == "fixed_port" and base:
+            r["portable_over_port_step"] = round(base["clocks_12T"] / r["clocks_12T"], 2)
+            r["portable_over_port_batch"] = round(base["clocks_12T_avg_batch"] / r["clocks_12T_avg_batch"], 2)
+
+
 def estimator_cost(t2):
     """auto rows: their step (one call on the settled chain, and the batch
     average) over the same target's and form's recommended step - 1, set in
     place as auto_over_recommended and auto_over_recommended_batch."""
     def key(r):
-        return (r["target"], r.get("multiplier"), r["form"])
+        return (r["target"], r.get("multiplier"), r["form"], r.get("samples_before_timed_step"))
     ref = {key(r): r for r in t2 if r.get("preset") == vectors.CHAIN_PRESET and r.get("status", "ok") == "ok"}
     for r in t2:
         base = ref.get(key(r))

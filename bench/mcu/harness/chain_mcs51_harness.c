@@ -5,7 +5,8 @@
  * samples, the Kalman gain table in code memory), runs the batch between
  * bench_start/bench_stop storing every output, stability flag and status,
  * then makes ONE more direct call of the step on the settled chain (the
- * steady-state step: the runner counts it from entry to return), feeds
+ * steady-state step: the runner counts it from entry to return; its output,
+ * flag and status are kept for the check, as the restart step's), feeds
  * CH_RESTART_PRE samples of a new level, and makes the step on which the
  * chain detects the motion and restarts inside restart_step() (counted the
  * same way, as its call there). */
@@ -19,6 +20,7 @@
 sig_status init_status;
 sig_status one_status, pre_status, restart_status;
 int32_t one_out, restart_out;
+bool one_stable;
 sig_chain_params_q params = CH_PARAMS_Q;
 int32_t vec_out[CH_N];
 sig_status vec_status[CH_N];
@@ -49,6 +51,7 @@ int main(void)
     run_batch();
     one_status = sig_chain_mcs51_step(CH_ONE_X_Q);
     one_out = sig_chain_mcs51.out;
+    one_stable = sig_chain_mcs51.stable;
     for (i = 0; i < CH_RESTART_PRE; i++) pre_status = sig_chain_mcs51_step(CH_RESTART_X);
     restart_step();
     bench_done();
