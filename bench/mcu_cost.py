@@ -22,7 +22,14 @@ csrc/port/mcs51 in Table 2 (steady-state and motion-restart steps).  Each
 target's status is printed and written; a missed one comes with its
 profile.
 
-Every row is built from source, run in mspdebug 0.22 `sim` / ucsim s51, and
+The ATmega328P (Arduino Uno, 16 MHz; gcc-avr -Os, simavr; cycles counted
+by the harness with Timer 1 at clk/1): the chain step for every preset in
+Table 2, Table 3 the compensation families and the image loader, Table 4
+the HX711 libraries' smoothing beside the chain (cycles and RAM per sample
+from the same run, settle / steady noise / glitch figures from
+bench/weighing_defaults.py on one HX711-like cell).
+
+Every row is built from source, run in mspdebug 0.22 `sim` / ucsim s51 / simavr, and
 its outputs are read back and checked against the host C (Cython) before the
 row is printed: a wrong build cannot produce a number here.  The rows are
 built by lab.mcu.cost_tables; this script prints them and writes the JSON.
@@ -34,6 +41,8 @@ import json
 from pathlib import Path
 
 from lab.mcu import runner, vectors
+from lab.mcu.cost_avr import AVR_CHAIN_N, AVR_HZ, chain_rows_avr, tcomp_rows_avr
+from lab.mcu.cost_peers import peer_rows
 from lab.mcu.cost_tables import (CHAIN_PORT_N, HARNESS, I_ACTIVE_A, IMAGES, MCLK_HZ, TCOMP_SRC,
                                    WHAT_3000_TAKES, chain_ops, chain_row_mcs51, chain_row_mcs51_port,
                                    chain_rows_msp430, estimator_cost, port_speedup, table1b, tcomp16_row,
@@ -61,6 +70,7 @@ def main(argv=None):
     ap.add_argument("--vdd", type=float, default=3.3, help="supply voltage for the energy column (V)")
     ap.add_argument("--orders", default="1-5", help="polynomial orders, e.g. 1-5 or 2,4")
     ap.add_argument("--no-8051", action="store_true", help="skip the 8051 rows")
+    ap.add_argument("--no-avr", action="store_true", help="skip the ATmega328P rows")
     ap.add_argument("--table", choices=["1", "2", "all"], default="all", help="which table(s)")
     a = ap.parse_args(argv)
 
@@ -78,6 +88,8 @@ def main(argv=None):
     t1b = print_table1b(table1b(a.vdd)) if a.table in ("1", "all") else []
     if a.table in ("2", "all"):
         t2, t3 = table2(a)
+    avr_tcomp, peers, sketches = (([], None, []) if a.no_avr or a.table != "all"
+                                  else (table3(a), table4(t2), arduino_examples()))
     checks, profiles, experiment = targets(t1, t2, a, t1b)
     if a.json:
         a.json.parent.mkdir(parents=True, exist_ok=True)
@@ -86,8 +98,12 @@ def main(argv=None):
                      "msp430_sim": "mspdebug 0.22 sim, classic MSP430 cycle table",
                      "msp430_helpers": "bench/mcu/msp430 (rt_hwmul.c with MPY_BASE=0x0130 for hw)",
                      "mcs51_sim": "ucsim s51 0.6.4 -t C52 (12T); 1T estimate = opcode histogram "
-                                  "x STC-Y5 published clocks (bench/lab/mcu/mcs51_timing.py)"},
+                                  "x STC-Y5 published clocks (bench/lab/mcu/mcs51_timing.py)",
+                     "avr_sim": "simavr 1.6 -m atmega328p -f 16000000; cycles: the harness's Timer 1 "
+                                "at clk/1 (bench/mcu/avr/bench_avr.h), gcc-avr 5.4 -Os, avr-libc 2.0",
+                     "avr_hz": AVR_HZ},
             "table1": t1, "table1b_table_lookup": t1b, "table2": t2, "mcs51_tcomp": t3,
+            "avr_tcomp": avr_tcomp, "avr_peers": peers, "arduino_examples": sketches,
             "targets": checks,
             "experiment_tcomp_fast": experiment, "profiles": profiles}, indent=1))
         print(f"\nwrote {a.json}")
@@ -173,10 +189,96 @@ def table2(a):
                   f"of 0xFF)")
     print("ops model per step:", {f: chain_ops(f) for f in ("fixed", "float")})
 
+    if not a.no_avr:
+        avr = chain_rows_avr()
+        estimator_cost(avr)
+        t2 += avr
+        print(f"\nTable 2, ATmega328P @ 16 MHz (simavr, gcc-avr -Os; every preset, {AVR_CHAIN_N} "
+              "samples checked each; cycles = Timer 1 at clk/1 around the call):")
+        print(_table(avr, ["preset", "form", "cycles", "cycles_avg_batch", "time_us", "text_bytes",
+                           "helper_bytes", "state_bytes", "stack_bytes", "ram_bytes",
+                           "auto_over_recommended"]))
     t3 = [] if a.no_8051 else [tcomp_row_mcs51(2)]
     if t3:
         print("\n8051 compensation, order 2, 3 axes:", json.dumps(t3[0]))
     return t2, t3
+
+
+def table3(a):
+    rows = tcomp_rows_avr(_orders(a.orders))
+    print("\nTable 3 - compensation on the ATmega328P @ 16 MHz (simavr, gcc-avr -Os), 3 axes per "
+          "call (table: one axis); image load = sig_tmodel_load_image (CRC, sections, model set "
+          "up) of a fitted image, then sig_tmodel_apply per vector")
+    print(_table(rows, ["family", "form", "order", "cycles", "cycles_avg_batch", "cycles_apply_avg_batch",
+                        "time_us", "text_bytes", "helper_bytes", "model_bytes", "stack_bytes",
+                        "image_bytes"]))
+    return rows
+
+
+def arduino_examples():
+    """The Arduino library's examples (arduino/make_library.py) built as the
+    IDE builds them for the Uno: flash and static RAM of each sketch."""
+    import os
+    import subprocess
+    import sys
+    import pysig
+    from lab.mcu.build_arduino import build_sketch
+    out = runner.BUILD_DIR / "arduino-library"
+    env = dict(os.environ, PYTHONPATH=str(Path(pysig.__file__).resolve().parents[1]))
+    subprocess.run([sys.executable, str(runner.ROOT / "arduino" / "make_library.py"), str(out)],
+                   check=True, capture_output=True, env=env)
+    rows = []
+    for ex in ("HX711Scale", "CompensatedSensor"):
+        r = build_sketch(out / "SigCore", ex)
+        rows.append({"example": ex, "board": "Arduino Uno (ATmega328P)", "flash_bytes": r["flash_bytes"],
+                     "static_ram_bytes": r["ram_bytes"]})
+    print("\nArduino library examples (gcc-avr -Os with Debian's Arduino core; flash of 32256, "
+          "static RAM of 2048):")
+    print(_table(rows, ["example", "flash_bytes", "static_ram_bytes"]))
+    return rows
+
+
+# two HX711-like cells of bench/weighing_defaults.py's grid: integer counts,
+# noise step/200; clean, and with 1 % read glitches and a hand-placed swing
+PEER_CELLS = {"clean": {"unit": "counts", "sigma_rel": 1 / 200, "glitch_rate": 0.0, "swing": False},
+              "glitches_swing": {"unit": "counts", "sigma_rel": 1 / 200, "glitch_rate": 0.01,
+                                 "swing": True}}
+PEER_FIGURES = ("settle_s", "settle_s_median", "steps_settled", "steps", "steady_std_rel",
+                "glitch_excursion_rel")
+
+
+def table4(t2):
+    """The HX711 libraries' smoothing beside the chain: cost on the AVR from
+    this run, behaviour from weighing_defaults on PEER_CELLS."""
+    import weighing_defaults as wd
+    ours = {r["preset"]: r for r in t2 if r["target"].startswith("atmega") and r["form"] == "fixed"}
+    rows = [{"config": "default" if p == "auto" else p, "library": f"pysig chain, preset {p!r} (fixed)",
+             "cycles_per_output": ours[p]["cycles"], "samples_per_call": 1,
+             "cycles_per_sample": ours[p]["cycles"], "ram_bytes": ours[p]["ram_bytes"],
+             "state_bytes": ours[p]["state_bytes"], "stack_bytes": ours[p]["stack_bytes"],
+             "text_bytes": ours[p]["text_bytes"] + ours[p]["helper_bytes"]}
+            for p in ("auto", "recommended") if p in ours]
+    rows += [dict(r, text_bytes=r["text_bytes"] + r["helper_bytes"]) for r in peer_rows()]
+    for cell, c in PEER_CELLS.items():
+        figs = {f["config"]: f for f in wd.cell_rows(c["unit"], c["sigma_rel"], c["glitch_rate"],
+                                                     c["swing"], configs=[r["config"] for r in rows])}
+        for r in rows:
+            f = figs[r["config"]]
+            r[cell] = {k: (round(f[k], 3) if isinstance(f[k], float) else f[k]) for k in PEER_FIGURES}
+    print("\nTable 4 - the HX711 libraries' smoothing beside the chain, ATmega328P @ 16 MHz, same "
+          "run (block reads: one call consumes `samples_per_call` samples); behaviour from "
+          "bench/weighing_defaults.py (settle: s from the change to within +-sigma for good, worst "
+          "step / median, None = a step never settles; steady std and glitch excursion / sigma):")
+    for cell, c in PEER_CELLS.items():
+        print(f"  {cell}: {c}")
+    flat = [dict(r, **{f"{cell}_{k}": r[cell][k] for cell in PEER_CELLS for k in PEER_FIGURES})
+            for r in rows]
+    print(_table(flat, ["config", "cycles_per_output", "samples_per_call", "cycles_per_sample",
+                        "ram_bytes", "text_bytes"]
+                 + [f"{cell}_{k}" for cell in PEER_CELLS for k in PEER_FIGURES]))
+    for r in rows:
+        print(f"  {r['config']}: {r['library']}")
+    return {"cells": PEER_CELLS, "rows": rows}
 
 
 def targets(t1, t2, a, t1b=()):
@@ -215,6 +317,12 @@ def targets(t1, t2, a, t1b=()):
         checks.append({"target": "fixed chain step on the 8051 <= 3000 12T clocks (portable C)",
                        "measured": c51.get("clocks_12T", c51.get("status")),
                        "met": c51.get("status") == "ok" and c51["clocks_12T"] <= 3000})
+    for r in t2:
+        if r["target"].startswith("atmega") and r["preset"] == "auto":
+            checks.append({"target": f"default chain step ({r['form']}) on the ATmega328P <= 20000 "
+                                     "cycles (80 SPS HX711 at 16 MHz: 10 % of the CPU)",
+                           "measured": r["cycles"], "met": r["cycles"] <= 20000,
+                           "batch_avg": r["cycles_avg_batch"]})
     p51 = max((r for r in t2 if r["form"] == "fixed_port" and r["preset"] == vectors.CHAIN_PRESET),
               key=lambda r: r["samples_before_timed_step"], default=None)
     if p51:

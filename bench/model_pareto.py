@@ -37,6 +37,7 @@ from pathlib import Path
 from pysig.errors import PysigError
 from pysig.io import atomic_output
 from lab.mcu import model_cost
+from lab.mcu import runner
 from lab.mcu.runner import McuError
 from pysig.tcomp._cross_validation import DEFAULT_BLOCKS, PAPER_ORDER
 from lab.studies.pareto import (POLY_ORDERS, PWL_KNOTS, cheapest_within, datasets, model_name,
@@ -51,15 +52,17 @@ PAPER_CLAIM = ("Magnetometer paper (4 chamber temperatures, its Tables 2-3):\n"
 
 def print_table(rows):
     hdr = (f"{'dataset':8} {'axis':7} {'family':6} {'size':>4} {'cv_rms':>9} {'fit_rms':>9} "
-           f"{'data_B':>6} {'text_B':>6} {'cycles':>8} {'energy_uJ':>9}")
+           f"{'data_B':>6} {'text_B':>6} {'cycles':>8} {'energy_uJ':>9} {'avr_cyc':>8} {'avr_B':>6}")
     print(hdr)
     print("-" * len(hdr))
     for r in rows:
         cyc = "-" if r["cycles"] is None else f"{r['cycles']:8.1f}"
         en = "-" if r["energy_uj"] is None else f"{r['energy_uj']:9.3f}"
         tb = "-" if r["text_bytes"] is None else str(r["text_bytes"])
+        acyc = "-" if r.get("avr_cycles") is None else f"{r['avr_cycles']:8.1f}"
+        ab = "-" if r.get("avr_text_bytes") is None else str(r["avr_text_bytes"])
         print(f"{r['dataset']:8} {r['axis']:7} {r['family']:6} {r['size']:4d} {r['cv_rms']:9.3f} "
-              f"{r['fit_rms']:9.3f} {r['data_bytes']:6d} {tb:>6} {cyc:>8} {en:>9}")
+              f"{r['fit_rms']:9.3f} {r['data_bytes']:6d} {tb:>6} {cyc:>8} {en:>9} {acyc:>8} {ab:>6}")
 
 
 def print_summary(summary):
@@ -185,6 +188,8 @@ def main(argv=None):
                     help="add the power-of-two tables on the MSP430 assembly lookup (family pwl2)")
     ap.add_argument("--no-mcu", action="store_true",
                     help="skip the MSP430 builds (cycles, text bytes, energy left empty)")
+    ap.add_argument("--no-avr", action="store_true",
+                    help="skip the ATmega328P builds (avr_* columns left empty)")
     args = ap.parse_args(argv)
     if args.plot and args.no_mcu:
         ap.error("--plot needs the MCU cycles (drop --no-mcu)")
@@ -194,7 +199,8 @@ def main(argv=None):
             print(f"{name}: fitting, cross-validating and measuring ...", file=sys.stderr)
             r = run_dataset(name, curve, unit, mcu=not args.no_mcu, n_blocks=args.blocks,
                             poly_orders=args.orders, pwl_knots=args.knots,
-                            port_tables=args.port_tables, log=lambda m: print(m, file=sys.stderr))
+                            port_tables=args.port_tables, avr=not args.no_avr,
+                            log=lambda m: print(m, file=sys.stderr))
             rows += r
             summary.append(summarise(name, curve, r))
     except (PysigError, McuError) as exc:
@@ -211,6 +217,10 @@ def main(argv=None):
                                                 "timing": "mspdebug 0.22 sim, classic MSP430 table",
                                                 "multiplier": "16x16 MPY helpers (-mhwmult=f5series)",
                                                 "temps_per_call_mean": model_cost.N_TEMPS},
+               "avr": None if args.no_avr else {
+                   "target": "ATmega328P", "f_cpu_hz": runner.AVR_F_CPU,
+                   "timing": "simavr 1.6; the harness's Timer 1 at clk/1 (bench/mcu/avr/bench_avr.h)",
+                   "compiler": "gcc-avr 5.4 -Os, avr-libc 2.0"},
                "cv": {"blocks": args.blocks, "held_out": "interior blocks"},
                "rows": rows, "summary": summary}
         with atomic_output(args.json) as fh:

@@ -155,30 +155,30 @@ def cell_metrics(out, out_clean, level, sigma, step):
             "glitch_excursion_rel": excursion}
 
 
+def cell_rows(unit, sigma_rel, glitch_rate, swing, seeds=SEEDS, configs=CONFIGS):
+    """One grid cell: a row per configuration, the worst over the seeds."""
+    step, offset, integer = UNITS[unit]
+    sigma = sigma_rel * step
+    per = {c: [] for c in configs}
+    for seed in range(seeds):
+        rng = np.random.default_rng([seed, int(1 / sigma_rel), int(glitch_rate * 100), swing,
+                                     list(UNITS).index(unit)])
+        level, clean, dirty = make_signal(rng, step, offset, sigma, glitch_rate, swing, integer)
+        halves = np.concatenate([np.arange(k * HOLD + HOLD // 2, (k + 1) * HOLD)
+                                 for k in range(len(LEVELS))])
+        for config in configs:
+            out, sig = run_config(config, dirty, sigma)
+            out_clean = run_config(config, clean, sigma)[0]
+            m = cell_metrics(out, out_clean, level, sigma, step)
+            m["sigma_hat_err_rel"] = (None if sig is None
+                                      else float(np.median(sig[halves])) / sigma - 1.0)
+            per[config].append(m)
+    return [merge(config, unit, sigma_rel, glitch_rate, swing, per[config]) for config in configs]
+
+
 def grid_rows(seeds=SEEDS):
-    rows = []
-    for unit, (step, offset, integer) in UNITS.items():
-        for sigma_rel in SIGMA_REL:
-            sigma = sigma_rel * step
-            for glitch_rate in GLITCH_RATES:
-                for swing in (False, True):
-                    per = {c: [] for c in CONFIGS}
-                    for seed in range(seeds):
-                        rng = np.random.default_rng([seed, int(1 / sigma_rel), int(glitch_rate * 100), swing,
-                                                     list(UNITS).index(unit)])
-                        level, clean, dirty = make_signal(rng, step, offset, sigma, glitch_rate, swing, integer)
-                        halves = np.concatenate([np.arange(k * HOLD + HOLD // 2, (k + 1) * HOLD)
-                                                 for k in range(len(LEVELS))])
-                        for config in CONFIGS:
-                            out, sig = run_config(config, dirty, sigma)
-                            out_clean = run_config(config, clean, sigma)[0]
-                            m = cell_metrics(out, out_clean, level, sigma, step)
-                            m["sigma_hat_err_rel"] = (None if sig is None
-                                                      else float(np.median(sig[halves])) / sigma - 1.0)
-                            per[config].append(m)
-                    for config in CONFIGS:
-                        rows.append(merge(config, unit, sigma_rel, glitch_rate, swing, per[config]))
-    return rows
+    return [row for unit in UNITS for sigma_rel in SIGMA_REL for glitch_rate in GLITCH_RATES
+            for swing in (False, True) for row in cell_rows(unit, sigma_rel, glitch_rate, swing, seeds)]
 
 
 def merge(config, unit, sigma_rel, glitch_rate, swing, ms):

@@ -42,11 +42,19 @@ def require_tool(*names):
 
 def require_target_tools(target):
     """Skip (or fail in CI) unless the compiler and simulator of `target`
-    ("msp430" or "mcs51") are installed."""
+    ("msp430", "mcs51" or "avr") are installed."""
     if target == "msp430":
         for t in ("clang-14", "mspdebug"):
             require_tool(t)
         require_tool("ld.lld-14", "ld.lld")
+    elif target == "avr":
+        for t in ("avr-gcc", "avr-nm", "avr-objdump", "avr-size", "simavr"):
+            require_tool(t)
+        if not os.path.exists("/usr/lib/avr/include/avr/io.h"):
+            msg = "avr-libc is not installed"
+            if os.environ.get("CI"):
+                pytest.fail(msg + " (CI must install it: see .ci/run)")
+            pytest.skip(msg)
     else:
         for t in ("sdcc", "s51"):
             require_tool(t)

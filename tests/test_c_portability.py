@@ -1,6 +1,7 @@
 """Every csrc/ file compiles warning-free for the host (gcc, strict C99), for
-the MSP430 (clang --target=msp430) and for the 8051 (sdcc -mmcs51), in both
-float forms, and includes nothing beyond stdint/stddef/stdbool."""
+the MSP430 (clang --target=msp430), for the 8051 (sdcc -mmcs51) and for the
+ATmega328P (gcc-avr -Os, as the Arduino library builds it), in both float
+forms, and includes nothing beyond stdint/stddef/stdbool."""
 import re
 import subprocess
 
@@ -46,3 +47,11 @@ def test_sdcc_mcs51(src, tmp_path):
     sdcc = require_tool("sdcc")
     _compile([sdcc, "-mmcs51", "--model-large", "--std-c99", "-I", str(CSRC_INCLUDE),
               "-c", str(src), "-o", str(tmp_path) + "/"])
+
+
+@pytest.mark.parametrize("src", SOURCES, ids=lambda p: p.name)
+def test_gcc_avr(src, tmp_path):
+    gcc = require_tool("avr-gcc")
+    _compile([gcc, "-mmcu=atmega328p", "-std=c99", "-Wall", "-Wextra", "-Wconversion", "-Wshadow",
+              "-pedantic", "-Werror", "-Os", "-I", str(CSRC_INCLUDE), "-c", str(src),
+              "-o", str(tmp_path / "x.o")])

@@ -1,6 +1,6 @@
 """The compact model in the coefficient image (section 8, SIG_SECTION_COMPACT_POLY):
 writer pysig/store/_image.py, spec tests/spec/image.py (load_compact), C loader
-sig_tcomp16_load_image (csrc/store/sig_tcomp16_image.c).  Round trip model ->
+sig_tcomp16_load_image (csrc/tcomp/sig_tcomp16_image.c).  Round trip model ->
 image -> C loader -> apply equals the Python spec bit for bit; every bit flip
 and every truncation is refused with the C model untouched; on mutated
 payloads the C loader and the spec agree (status and fields) and accept

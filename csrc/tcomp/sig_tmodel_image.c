@@ -26,7 +26,7 @@ sig_status sig_tmodel_load_image(sig_tmodel *m, int16_t *storage, uint16_t stora
      * copy of the model is needed (the 8051's stack holds ~200 bytes). */
     const uint8_t *p = NULL;
     uint16_t plen = 0u;
-    uint8_t kind, family, n_axes = 0u;
+    uint8_t kind = 0u, family, n_axes = 0u;   /* set by load_code_kind; gcc-avr 5 cannot see it */
     sig_status st;
     if (m == NULL || image == NULL) return SIG_ERR_ARG;
     st = load_code_kind(image, len, &kind);

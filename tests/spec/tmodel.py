@@ -1,5 +1,5 @@
 """Any temperature model of a coefficient image: the executable spec of
-csrc/tcomp/sig_tmodel.c and csrc/store/sig_tmodel_image.c, one sample at a
+csrc/tcomp/sig_tmodel.c and csrc/tcomp/sig_tmodel_image.c, one sample at a
 time, in plain Python integers.
 
     code kind   SECTION_TEMP_CODE payload [kind, 0]; absent: int16

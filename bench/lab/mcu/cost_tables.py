@@ -98,6 +98,39 @@ def _i16(b):
     return np.frombuffer(b, "<i2")
 
 
+def check_tcomp(case, form, reads):
+    """SystemExit unless the firmware's outputs and statuses of a
+    compensation batch equal the host C (float: within 2e-6 relative)."""
+    n, a = case.in_q.shape
+    fw_st = _i16(reads["vec_status"])
+    from pysig.tcomp._tcomp import TcompF, TcompQ
+    if form == "float":
+        fw = np.frombuffer(reads["vec_out"], "<f4").reshape(n, a).astype(float)
+        host = TcompF(case.coef_f.astype(float), float(np.float32(case.t_lo / 100)),
+                      float(np.float32(case.t_hi / 100)), float(case.center_f),
+                      float(case.inv_scale_f))
+        h_out, h_st = host.apply(case.t_f.astype(float), case.in_f.astype(float))
+        ok = np.array_equal(fw_st, h_st) and np.all(np.abs(fw - h_out) <= 2e-6 * np.maximum(1, np.abs(h_out)))
+    else:
+        fw = _i16(reads["vec_out"]).reshape(n, a)
+        host = TcompQ.from_fields(case.coef_q, case.q, case.t_lo, case.t_hi, case.t_center,
+                                  case.t0, case.u_mul, case.u_shift)
+        h_out, h_st = host.apply(case.t_q, case.in_q)
+        ok = np.array_equal(fw, h_out) and np.array_equal(fw_st, h_st)
+    if not ok:
+        raise SystemExit(f"tcomp order {case.order} {form}: firmware results differ from the host C")
+
+
+def check_tcomp16(case, form, reads):
+    """SystemExit unless a compact-form batch equals the host C bit for bit."""
+    n, a = case.base.in_q.shape
+    from pysig.tcomp._tcomp16 import Tcomp16Q
+    h_out, h_st = Tcomp16Q.from_compact(case.compact).apply(case.base.t_q, case.base.in_q)
+    if not (np.array_equal(_i16(reads["vec_out"]).reshape(n, a), h_out)
+            and np.array_equal(_i16(reads["vec_status"]), h_st)):
+        raise SystemExit(f"tcomp16 order {case.base.order} {form}: firmware results differ from the host C")
+
+
 def tcomp_row(order: int, form: str, hwmult: bool, vdd: float) -> dict:
     case = vectors.tcomp_case(order)
     gen = runner.BUILD_DIR / "gen" / f"tcomp-o{order}"
@@ -111,23 +144,7 @@ def tcomp_row(order: int, form: str, hwmult: bool, vdd: float) -> dict:
     esize = 4 if fl else 2
     r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
                        reads={"vec_out": esize * n * a, "vec_status": 2 * n})
-    fw_st = _i16(r["reads"]["vec_status"])
-    from pysig.tcomp._tcomp import TcompF, TcompQ
-    if fl:
-        fw = np.frombuffer(r["reads"]["vec_out"], "<f4").reshape(n, a).astype(float)
-        host = TcompF(case.coef_f.astype(float), float(np.float32(case.t_lo / 100)),
-                      float(np.float32(case.t_hi / 100)), float(case.center_f),
-                      float(case.inv_scale_f))
-        h_out, h_st = host.apply(case.t_f.astype(float), case.in_f.astype(float))
-        ok = np.array_equal(fw_st, h_st) and np.all(np.abs(fw - h_out) <= 2e-6 * np.maximum(1, np.abs(h_out)))
-    else:
-        fw = _i16(r["reads"]["vec_out"]).reshape(n, a)
-        host = TcompQ.from_fields(case.coef_q, case.q, case.t_lo, case.t_hi, case.t_center,
-                                  case.t0, case.u_mul, case.u_shift)
-        h_out, h_st = host.apply(case.t_q, case.in_q)
-        ok = np.array_equal(fw, h_out) and np.array_equal(fw_st, h_st)
-    if not ok:
-        raise SystemExit(f"tcomp order {order} {form}: firmware results differ from the host C")
+    check_tcomp(case, form, r["reads"])
     clos = runner.code_closure(img, func)
     text = sum(v for k, v in clos.items() if not runner.is_helper(k))
     helpers = sum(v for k, v in clos.items() if runner.is_helper(k))
@@ -169,11 +186,7 @@ def tcomp16_row(order: int, hwmult: bool, vdd: float, inline: bool = False,
     n, a = case.base.in_q.shape
     r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"],
                        reads={"vec_out": 2 * n * a, "vec_status": 2 * n})
-    from pysig.tcomp._tcomp16 import Tcomp16Q
-    h_out, h_st = Tcomp16Q.from_compact(case.compact).apply(case.base.t_q, case.base.in_q)
-    if not (np.array_equal(_i16(r["reads"]["vec_out"]).reshape(n, a), h_out)
-            and np.array_equal(_i16(r["reads"]["vec_status"]), h_st)):
-        raise SystemExit(f"tcomp16 order {order} {form}: firmware results differ from the host C")
+    check_tcomp16(case, form, r["reads"])
     IMAGES[(form, order, hwmult)] = (img, r["funcs"][func]["instructions"])
     clos = runner.code_closure(img, func)
     if (inline or asm) and any(runner.is_helper(k) for k in clos):
@@ -212,8 +225,8 @@ def chain_rows_msp430(form: str, hwmult: bool, case, vdd: float) -> dict:
     img = runner.build_msp430(CHAIN_SRC, HARNESS / "chain_harness.c", ["BENCH_FLOAT"] if fl else [],
                               hwmult=hwmult, include_dirs=[gen], name=f"chain{_chain_tag(case)}-{form}")
     n = len(case.x)
-    r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"], reads=_chain_reads(n))
-    _check_chain(case, form, r["reads"])
+    r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"], reads=chain_reads(n))
+    check_chain(case, form, r["reads"])
     IMAGES[("chain" + _chain_tag(case), form, hwmult)] = (img, r["funcs"][func]["instructions"])
     clos = runner.code_closure(img, func)
     one = r["funcs"][func]
@@ -238,7 +251,7 @@ def _same_outputs(form, fw_bytes, host_out):
     return bool(np.all(np.abs(fw - host_out) <= 1e-5 * np.maximum(1, np.abs(host_out))))
 
 
-def _check_chain(case, form, reads, timed=(("one", 0),)):
+def check_chain(case, form, reads, timed=(("one", 0),)):
     """Every batch output and status, and every timed single step's output,
     status (and stable flag where the harness keeps it) against the host C
     chain run on the same input.  timed: (name, k): the harness's name_out /
@@ -263,7 +276,7 @@ def _check_chain(case, form, reads, timed=(("one", 0),)):
             raise SystemExit(f"chain {form}: the timed step '{name}' (sample {i}) differs from the host C")
 
 
-def _chain_reads(n):
+def chain_reads(n):
     """what a chain harness leaves to check: the batch and the timed step"""
     return {"vec_out": 4 * n, "vec_status": 2 * n, "one_out": 4, "one_status": 2, "one_stable": 1}
 
@@ -308,10 +321,10 @@ def chain_row_mcs51(form: str, case) -> dict:
         row.update(status="does not build", error=[ln for ln in str(e).splitlines()
                                                     if "ASlink-Error" in ln or "warning" in ln])
         return row
-    r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"], reads=_chain_reads(n))
+    r = runner.measure(img, funcs=[func], regions=["bench_start:bench_stop"], reads=chain_reads(n))
     if r["total"].get("stack_overflow"):
         raise SystemExit(f"chain {form} on the 8051: the stack passed 0xFF (s51)")
-    _check_chain(case, form, r["reads"])
+    check_chain(case, form, r["reads"])
     IMAGES[("chain" + tag, form, "mcs51")] = (img, r["funcs"][func]["instructions"])
     one = r["funcs"][func]
     clos = runner.code_closure(img, func)
@@ -433,10 +446,10 @@ def chain_row_mcs51_port(case=None) -> tuple:
     steady, restart = "sig_chain_mcs51_step", "sig_chain_mcs51_step@restart_step"
     _, pre = vectors.chain_restart_plan(case)
     r = runner.measure(img, funcs=[steady, restart], regions=["bench_start:bench_stop"],
-                       reads=dict(_chain_reads(n), vec_stable=n, restart_out=4, restart_status=2))
+                       reads=dict(chain_reads(n), vec_stable=n, restart_out=4, restart_status=2))
     if r["total"].get("stack_overflow"):
         raise SystemExit("8051 chain port: the stack passed 0xFF (s51)")
-    _check_chain(case, "fixed", r["reads"], timed=(("one", 0), ("restart", pre + 1)))
+    check_chain(case, "fixed", r["reads"], timed=(("one", 0), ("restart", pre + 1)))
     if not (_i16(r["reads"]["restart_status"])[0] & 32):
         raise SystemExit("8051 chain port: the restart step did not restart (no SIG_CHAIN_MOTION)")
     IMAGES[("chain", "fixed", "mcs51-port" + tag)] = (img, r["funcs"][steady]["instructions"])

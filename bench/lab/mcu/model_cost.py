@@ -103,21 +103,32 @@ def call_tree_bytes(img, entry):
             sorted(seen))
 
 
-def measure_case(tag, harness, source_files, header_text, entry):
-    """Build a harness with its case header, run it, read back: per-axis
+def measure_case(tag, harness, source_files, header_text, entry, target="msp430"):
+    """Build a harness with its case header for the MSP430F5510 (target
+    "msp430") or the ATmega328P ("avr"), run it, read back: per-axis
     cycles, outputs, statuses, code bytes."""
     d = case_dir(tag)
     (d / "pareto_case.h").write_text(header_text)
-    img = runner.build_msp430(source_files, HARNESS_DIR / harness, include_dirs=[d], hwmult=True,
-                              name=f"pareto-{tag}")
+    if target == "avr":
+        img = runner.build_avr(source_files, HARNESS_DIR / harness, include_dirs=[d],
+                               name=f"pareto-{tag}")
+    else:
+        img = runner.build_msp430(source_files, HARNESS_DIR / harness, include_dirs=[d], hwmult=True,
+                                  name=f"pareto-{tag}")
     regions = ["bench_start:bench_axis1", "bench_axis1:bench_axis2", "bench_axis2:bench_stop",
                "bench_null_start:bench_null_stop"]
-    res = runner.measure(img, funcs=[entry], regions=regions,
+    res = runner.measure(img, funcs=[] if target == "avr" else [entry], regions=regions,
                          reads={"out": 3 * N_TEMPS * 4, "status": 3 * N_TEMPS * 2}, stack=False)
     null = res["regions"][regions[3]]["cycles"]
     cycles = [(res["regions"][r]["cycles"] - null) / N_TEMPS for r in regions[:3]]
     out = np.frombuffer(res["reads"]["out"], "<i4").reshape(3, N_TEMPS)
     status = np.frombuffer(res["reads"]["status"], "<i2").reshape(3, N_TEMPS)
+    if target == "avr":
+        tree = runner.code_closure(img, entry)
+        text = sum(v for k, v in tree.items() if not runner.is_helper(k))
+        helper = sum(v for k, v in tree.items() if runner.is_helper(k))
+        return {"cycles": cycles, "single_call_cycles": None, "out": out, "status": status,
+                "text_bytes": text, "helper_bytes": helper, "call_tree": sorted(tree)}
     text, helper, tree = call_tree_bytes(img, entry)
     return {"cycles": cycles, "single_call_cycles": res["funcs"][entry]["cycles"],
             "out": out, "status": status, "text_bytes": text, "helper_bytes": helper,
@@ -132,7 +143,7 @@ def poly_eval_host(pm, axis, temp_int):
 
 
 
-def mcu_poly(tag, pm, order):
+def mcu_poly(tag, pm, order, target="msp430"):
     """Measure a lab.studies.pareto.poly_models() model (three axes) with
     sig_tcomp_delta_q; raises ModelMismatchError unless every output equals
     the host C's."""
@@ -148,16 +159,16 @@ def mcu_poly(tag, pm, order):
     m = measure_case(tag, "harness_poly.c",
                      [runner.c_source("sig_tcomp"), runner.c_source("sig_poly"),
                       runner.c_source("sig_image"), runner.c_source("sig_crc16")],
-                     h, "sig_tcomp_delta_q")
+                     h, "sig_tcomp_delta_q", target)
     for a in range(3):
         host, _ = poly_eval_host(pm, a, temps)
         if not np.array_equal(host, m["out"][a]):
-            raise ModelMismatchError(f"{tag}: MSP430 result differs from the host C on axis {a}: "
+            raise ModelMismatchError(f"{tag}: {target} result differs from the host C on axis {a}: "
                                      f"{m['out'][a]} vs {host}")
     return m
 
 
-def mcu_pwl(tag, tabs, n_knots):
+def mcu_pwl(tag, tabs, n_knots, target="msp430"):
     """Measure three pysig.tcomp._table_fit tables of `n_knots` with
     sig_pwl_eval_q16; raises ModelMismatchError unless every output and
     status equals the host C's."""
@@ -168,11 +179,12 @@ def mcu_pwl(tag, tabs, n_knots):
          f"#define PWL_RECIPS {{{', '.join(f'UINT32_C({t.recip})' for t in tabs)}}}\n"
          f"#define PWL_VFS {c_array([t.value_frac for t in tabs])}\n"
          f"#define TEMPS {c_array(temps)}\n")
-    m = measure_case(tag, "harness_pwl.c", [runner.c_source("sig_pwl")], h, "sig_pwl_eval_q16")
+    m = measure_case(tag, "harness_pwl.c", [runner.c_source("sig_pwl")], h, "sig_pwl_eval_q16",
+                     target)
     for a, t in enumerate(tabs):
         host, hstat = t.eval_c(temps)
         if not (np.array_equal(host, m["out"][a]) and np.array_equal(hstat, m["status"][a])):
-            raise ModelMismatchError(f"{tag}: MSP430 result differs from the host C on axis {a}: "
+            raise ModelMismatchError(f"{tag}: {target} result differs from the host C on axis {a}: "
                                      f"{m['out'][a]} vs {host}")
     return m
 

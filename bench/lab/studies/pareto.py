@@ -15,7 +15,11 @@ Per dataset, axis, family and size a row holds:
   data_bytes  bytes of one axis' model as stored (coefficients or table plus
               its parameters);
   text_bytes, helper_bytes, cycles, single_call_cycles, energy_uj
-              the MSP430 figures (see lab.mcu.model_cost), None without MCU.
+              the MSP430 figures (see lab.mcu.model_cost), None without MCU;
+  avr_cycles, avr_text_bytes, avr_helper_bytes
+              the same portable C on the ATmega328P (gcc-avr -Os, simavr,
+              Timer 1 cycles; `avr=True`), None otherwise and for pwl2 (the
+              MSP430 assembly lookup).
 """
 from __future__ import annotations
 
@@ -161,7 +165,7 @@ def pwl2_models(curve, n_req, scale=TEMP_UNITS_PER_C):
 
 # ------------------------------------------------------------------- rows --
 def run_dataset(name, curve, unit, mcu=True, log=print, poly_orders=POLY_ORDERS,
-                pwl_knots=PWL_KNOTS, n_blocks=DEFAULT_BLOCKS, port_tables=False):
+                pwl_knots=PWL_KNOTS, n_blocks=DEFAULT_BLOCKS, port_tables=False, avr=False):
     """Every row (see the module docstring) of one dataset.
 
     Parameters
@@ -181,6 +185,9 @@ def run_dataset(name, curve, unit, mcu=True, log=print, poly_orders=POLY_ORDERS,
         The polynomial orders and table sizes to compare.
     n_blocks : int
         Temperature blocks of the cross-validation.
+    avr : bool
+        Also build and run the polynomial and table models on the
+        ATmega328P (needs gcc-avr, avr-libc and simavr; with mcu).
     port_tables : bool
         Add family ``"pwl2"``: tables with knots a power of two temperature
         units apart, measured on the MSP430 assembly lookup (three axes per
@@ -223,11 +230,13 @@ def run_dataset(name, curve, unit, mcu=True, log=print, poly_orders=POLY_ORDERS,
                 fixed = [poly_eval_host(pm, a, quant.to_centi(temp))[1] for a in range(3)]
                 data_bytes = poly_data_bytes(size)
                 meas = mcu_poly(f"{name}-poly{size}", pm, size) if mcu else None
+                avr_meas = mcu_poly(f"{name}-poly{size}", pm, size, "avr") if mcu and avr else None
             else:
                 tabs = pwl_models(curve, size)
                 fixed = [t(temp) for t in tabs]
                 data_bytes = tabs[0].data_bytes
                 meas = mcu_pwl(f"{name}-pwl{size}", tabs, size) if mcu else None
+                avr_meas = mcu_pwl(f"{name}-pwl{size}", tabs, size, "avr") if mcu and avr else None
             for a, axis in enumerate(curve.names):
                 s = cv[(fam, size, axis)]
                 fit_rms = float(np.sqrt(np.mean((curve.axis(axis) - fixed[a]) ** 2)))
@@ -239,6 +248,9 @@ def run_dataset(name, curve, unit, mcu=True, log=print, poly_orders=POLY_ORDERS,
                        "cycles": meas["cycles"][a] if meas else None,
                        "single_call_cycles": meas["single_call_cycles"] if meas else None,
                        "energy_uj": energy_uj(meas["cycles"][a]) if meas else None,
+                       "avr_cycles": avr_meas["cycles"][a] if avr_meas else None,
+                       "avr_text_bytes": avr_meas["text_bytes"] if avr_meas else None,
+                       "avr_helper_bytes": avr_meas["helper_bytes"] if avr_meas else None,
                        "unit": unit}
                 rows.append(row)
             log(f"  {name} {fam} {size}: {time.time() - t0:.1f} s")
@@ -268,6 +280,7 @@ def run_dataset(name, curve, unit, mcu=True, log=print, poly_orders=POLY_ORDERS,
                          "cycles": meas["cycles"][a] if meas else None,
                          "single_call_cycles": meas["single_call_cycles"] if meas else None,
                          "energy_uj": energy_uj(meas["cycles"][a]) if meas else None,
+                         "avr_cycles": None, "avr_text_bytes": None, "avr_helper_bytes": None,
                          "unit": unit})
         log(f"  {name} pwl2 {size} (spacing {1 << shift}): {time.time() - t0:.1f} s")
     return rows

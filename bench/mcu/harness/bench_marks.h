@@ -12,18 +12,40 @@
 #define NOINLINE            /* sdcc never inlines a function without 'inline' */
 #endif
 
-/* Markers need a side effect: clang deletes calls to empty functions. */
+/* The simulators of the MSP430 and the 8051 count between breakpoints on
+ * these functions.  simavr has no scripted breakpoints: on the AVR the
+ * program counts itself with Timer 1 (bench/mcu/avr/bench_avr.h) and
+ * bench_done() hands the results over. */
+#ifdef __AVR__
+#include "bench_avr.h"
+#define BENCH_AVR_HOOK(h) h
+#else
+#define BENCH_AVR_HOOK(h)
+#endif
+
+/* Markers need a side effect: clang deletes calls to empty functions.
+ * Each one's bench_mark value is its id (sim_avr reads them from here). */
 volatile uint8_t bench_mark;
-NOINLINE void bench_start(void) { bench_mark = 1; }
-NOINLINE void bench_stop(void) { bench_mark = 2; }
-NOINLINE void bench_done(void) { bench_mark = 3; }
+#define BENCH_MARKER(name, id) \
+    NOINLINE void name(void) { bench_mark = id; BENCH_AVR_HOOK(bench_avr_mark(id)); }
+BENCH_MARKER(bench_start, 1)
+BENCH_MARKER(bench_stop, 2)
+NOINLINE void bench_done(void) { bench_mark = 3; BENCH_AVR_HOOK(bench_avr_dump_and_stop()); }
 /* Per-axis and empty-loop markers (the Pareto harnesses: axis 0 runs from
  * bench_start, axis 1 from bench_axis1, axis 2 from bench_axis2 to
  * bench_stop; the loop's own overhead between bench_null_start/_stop). */
-NOINLINE void bench_axis1(void) { bench_mark = 4; }
-NOINLINE void bench_axis2(void) { bench_mark = 5; }
-NOINLINE void bench_null_start(void) { bench_mark = 6; }
-NOINLINE void bench_null_stop(void) { bench_mark = 7; }
+BENCH_MARKER(bench_axis1, 4)
+BENCH_MARKER(bench_axis2, 5)
+BENCH_MARKER(bench_null_start, 6)
+BENCH_MARKER(bench_null_stop, 7)
+
+/* The one call of a function the runner measures (the MSP430 and 8051
+ * runners find it as the first direct call in main). */
+#ifdef __AVR__
+#define BENCH_CALL(stmt) BENCH_AVR_CALL(stmt)
+#else
+#define BENCH_CALL(stmt) stmt
+#endif
 
 /* The batch of test vectors between the start and stop markers:
  * status[i] = CALL(i) for i in 0 .. n-1; then the end marker, after which

@@ -60,7 +60,7 @@ int main(void)
 {
     init_status = CHAIN_INIT(&chain, &params);
     run_batch();
-    one_status = CHAIN_STEP(&chain, one_x, &one_out, &one_stable);
+    BENCH_CALL(one_status = CHAIN_STEP(&chain, one_x, &one_out, &one_stable));
     bench_done();
     return 0;
 }

@@ -45,12 +45,12 @@ int main(void)
                                           PW_RECIP, vfrac[a]);
 #ifdef PW_EVAL_AXES
     (void)a;
-    one_status = PW_EVAL_AXES(tab, 3, PW_ONE_T, one_out3);
+    BENCH_CALL(one_status = PW_EVAL_AXES(tab, 3, PW_ONE_T, one_out3));
 #define VECTOR(i) PW_EVAL_AXES(tab, 3, pw_temps[i], vec_out3[i])
     BENCH_VECTORS(PW_N, vec_status3, VECTOR);
 #else
     uint16_t i;
-    one_status = PW_EVAL(&tab[0], PW_ONE_T, &one_out);
+    BENCH_CALL(one_status = PW_EVAL(&tab[0], PW_ONE_T, &one_out));
     bench_start();
     for (a = 0; a < 3; a++)
         for (i = 0; i < PW_N; i++)

@@ -27,7 +27,7 @@ int main(void)
 {
     init_status = sig_tcomp16_init(&model, TC16_AXES, TC16_ORDER, tc16_top, tc16_add,
                                    TC16_T_LO, TC16_T_HI, TC16_W_SHIFT);
-    one_status = TC16_APPLY(&model, one_t, one_in, one_out);
+    BENCH_CALL(one_status = TC16_APPLY(&model, one_t, one_in, one_out));
     BENCH_VECTORS(TC16_N, vec_status, VECTOR);
     return 0;
 }

@@ -42,7 +42,7 @@ BENCH_MODEL_GLOBALS(model_t, value_t, TC_AXES, TC_N, ONE_IN, ONE_T);
 int main(void)
 {
     init_status = MODEL_INIT(&model);
-    one_status = MODEL_APPLY(&model, one_t, one_in, one_out);
+    BENCH_CALL(one_status = MODEL_APPLY(&model, one_t, one_in, one_out));
     BENCH_VECTORS(TC_N, vec_status, VECTOR);
     return 0;
 }

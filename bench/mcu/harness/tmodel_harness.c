@@ -20,7 +20,7 @@ int16_t storage[TM_STORAGE];
 
 int main(void)
 {
-    init_status = sig_tmodel_load_image(&model, storage, TM_STORAGE, tm_image, TM_IMAGE_LEN);
+    BENCH_CALL(init_status = sig_tmodel_load_image(&model, storage, TM_STORAGE, tm_image, TM_IMAGE_LEN));
     loaded_family = model.family;
     BENCH_VECTORS(TM_N, vec_status, VECTOR);
     return 0;
