@@ -103,7 +103,7 @@ def main(argv=None):
         return out
     measure("chain (C, float, batch path)", lambda: C.Chain("recommended"), x, "chain_msps")
     measure("chain (C, fixed)", lambda: C.Chain("recommended", fixed=True), x, "chain_fixed_msps")
-    measure("default chain (C, float, noise measured: step path)", lambda: C.Chain(), x, "chain_auto_msps")
+    measure("default chain (C, float, noise measured, batch path)", lambda: C.Chain(), x, "chain_auto_msps")
     measure("default chain (C, fixed, noise measured)", lambda: C.Chain(fixed=True), x, "chain_auto_fixed_msps")
     # the other presets, float (the default is to be as fast as the fastest, within 20 %)
     measure("paper preset chain (C, float)", lambda: C.Chain("paper", units_per_kg=UPK), x, "chain_paper_msps")

@@ -1,6 +1,7 @@
 /* sig_chain_batch.c - the chain over a buffer of samples; see sig_chain_batch.h. */
 #include "sig_chain_batch.h"
 #include "sig_chain_stages.h"
+#include "sig_noise_stages.h"
 
 /* Largest |sample| the batch fast path takes: a sum of SIG_ANTIPULSE_MAX + 2
  * such values cannot overflow, so the window sum and trimmed mean need no
@@ -21,8 +22,11 @@
         kx = c->kf.x; kp = c->kf.p; kk = c->kf.k; conv = c->kf.converged; \
         prev = c->st.prev; srun = c->st.run; mrun = c->motion_run; offset = c->offset; \
         a0 = c->limit.a0; band = c->motion_band; step = c->st.step; zband = c->zero_band; \
-        zrate = c->zero_rate; nearb = c->near_band; sigma = c->noise.sigma; \
-        stab = c->stable; settled = c->settled; prevx = c->prev_x; \
+        zrate = c->zero_rate; nearb = c->near_band; \
+        nz.prev = c->noise.prev; nz.sigma = c->noise.sigma; nz.res = c->noise.res; \
+        nz.count = c->noise.count; nz.has_prev = c->noise.has_prev; \
+        gate.rejected_prev = c->gate.rejected_prev; gate.holdoff = c->gate.holdoff; gate.frozen = c->gate.frozen; \
+        stab = c->stable; settled = c->settled; \
         anchor = c->anchor; dage = c->drift_age; drifting = c->drifting; \
         fast = c->limit.t.seeded && held != 0u && c->kf.seeded && c->st.has_prev && !c->ramp \
                && mx <= FAST_MAX && mn >= -FAST_MAX; \
@@ -34,7 +38,10 @@
         c->st.prev = prev; c->st.run = srun; c->motion_run = mrun; c->offset = offset; \
         c->limit.a0 = a0; c->motion_band = band; c->st.step = step; c->zero_band = zband; \
         c->zero_rate = zrate; c->near_band = nearb; \
-        c->stable = stab; c->settled = settled; c->prev_x = prevx; \
+        c->noise.prev = nz.prev; c->noise.sigma = nz.sigma; c->noise.res = nz.res; \
+        c->noise.count = nz.count; c->noise.has_prev = nz.has_prev; \
+        c->gate.rejected_prev = gate.rejected_prev; c->gate.holdoff = gate.holdoff; c->gate.frozen = gate.frozen; \
+        c->stable = stab; c->settled = settled; \
         c->anchor = anchor; c->drift_age = dage; c->drifting = drifting; \
     } while (0)
 
@@ -60,7 +67,9 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
     sig_status st;
     bool s, conv, fast, accept, stab, settled, drifting, nauto, seed_first, update;
     sig_real dc, sum, mx, mn, kx, kp, kk, prev, offset;      /* hot state */
-    sig_real prevx, anchor, sigma;                           /* noise_auto: hot state too */
+    sig_real anchor;                                         /* noise_auto: hot state too, */
+    sig_noise_f nz;                 /* with the estimator and its gate (copied field by field: */
+    sig_chain_gate gate;            /* a whole-struct copy costs a store-forwarding stall) */
     uint8_t head, held, lrun, srun, mrun, dage;
     int8_t lside, side;
     sig_real xi, y, d, m, m1, old, e, xk, v, pm, den, pn;
@@ -90,7 +99,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
             lrun = 0u;
             lside = 0;
             st = SIG_OK;
-            if (nauto) prevx = xi;             /* the ramp test's last finite sample */
+            if (nauto) c->prev_x = xi;         /* the ramp test's last finite sample (not read here) */
         } else if (fast && !sig_real_isfinite(xi)) {
             y = dc;
         } else {
@@ -109,7 +118,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
             lside = side;
             lrun = nrun;
             y = dc;
-            if (nauto) prevx = xi;
+            if (nauto) c->prev_x = xi;
         }
         /* anti-pulse: extremes (rescan when one leaves a full window), sum, mean */
         if (held == wn) {
@@ -190,22 +199,21 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         settled = s;
         if (nauto) {                           /* drift blocks, then the backing of `stable` */
             if (sig_chain_drift_due(held < wn, &dage, wn, &drifting)) {
-                if (held == wn) drifting = xk - anchor > sigma || anchor - xk > sigma;
+                if (held == wn) drifting = xk - anchor > nz.sigma || anchor - xk > nz.sigma;
                 anchor = xk;
             }
             if (s)
                 s = sig_chain_backed(st, held, wn, mrun, drifting,
-                                     y - xk <= nearb && xk - y <= nearb && m - xk <= sigma && xk - m <= sigma);
+                                     y - xk <= nearb && xk - y <= nearb && m - xk <= nz.sigma && xk - m <= nz.sigma);
         }
         if (s) (void)sig_chain_offset_f(xk, &offset, &c->tare_pending, zband, zrate);
         out[i] = xk - offset;
         stable[i] = (uint8_t)s;
         stab = s;
         if (nauto) {                           /* the noise estimate, then the thresholds */
-            SIG_CHAIN_NOISE_GATE(c->gate, st, wn, mrun, c->noise.count, update);
-            (void)sig_noise_step_f(&c->noise, xi, update);
-            sigma = c->noise.sigma;
-            sig_chain_thresholds_f(sigma, c->noise.count == 0u, &a0, &band, &step, &zband, &zrate, &nearb);
+            SIG_CHAIN_NOISE_GATE(gate, st, wn, mrun, nz.count, update);
+            (void)sig_noise_next_f(&nz, xi, update);
+            sig_chain_thresholds_f(nz.sigma, nz.count == 0u, &a0, &band, &step, &zband, &zrate, &nearb);
         }
     }
     /* the last sample on the step path: the state completed, its status returned */
