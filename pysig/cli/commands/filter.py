@@ -36,10 +36,8 @@ named `filtered_<unit>`."""
 import numpy as np
 import pyarrow as pa
 
-    counts = events.finish()
-    print(f"wrote {args.output}: {rows} rows, {filtered_name}, preset {args.preset}"
-          f"{' (fixed point)' if args.fixed else ''}, {counts['impulses']} samples replaced as impulses, "
-          f"{counts['motion_samples']} samples of load motion (steps, pours, swings), "
+from ...weigh import CODE_MAX, PRESETS, Chain, EventCounter, load_calibration
+from ...errors import InputFileError, NonFiniteError, RangeError, SaturationError
 from ...io import from_numpy, numeric_column, read_header, read_table, row_label
 from ...io_stream import iter_batches, progress, table_sink
 
@@ -191,6 +189,8 @@ def run(args):
             events.update(status)
             stable_rows += int(np.count_nonzero(stable))
             advance(x.size)
-from ...weigh import CODE_MAX, PRESETS, Chain, EventCounter, load_calibration
-from ...errors import InputFileError, NonFiniteError, RangeError, SaturationError
+    counts = events.finish()
+    print(f"wrote {args.output}: {rows} rows, {filtered_name}, preset {args.preset}"
+          f"{' (fixed point)' if args.fixed else ''}, {counts['impulses']} samples replaced as impulses, "
+          f"{counts['motion_samples']} samples of load motion (steps, pours, swings), "
           f"stable on {stable_rows / max(rows, 1) * 100:.1f} % of rows")
