@@ -186,6 +186,9 @@ def _with_row(rows, i, row):
     return rows[:i] + [row] + rows[i:]
 
 
+# a raw log: 6 s empty, then 6 s of one load (two still loads), 10 Hz
+STEP_LOG = "t,counts\n" + "".join(f"{i / 10:.1f},{1000 + (5000 if i >= 60 else 0) + (i * 7) % 5}\n"
+                                   for i in range(120))
 # standard masses on an HX711-class 24-bit converter: codes -8388608..8388607
 SCALE = "kg,counts\n" + "".join(f"{m},{-8000 + 20000 * m + d}\n" for m in (0, 1, 2, 5, 10) for d in (-1, 0, 1))
 
@@ -209,6 +212,10 @@ CASES = [
      NonFiniteError, ["in.csv", "row 12", "counts", "inf"]),
     ("filter-fixed-code-beyond-range", case_text("filter-fixed", WEIGH.replace("\n1.0,1001\n", "\n1.0,40000000\n")),
      SaturationError, ["in.csv", "row 12", "counts", "40000000"]),
+    ("filter-fixed-non-integer", case_text("filter-fixed", WEIGH.replace("\n1.0,1001\n", "\n1.0,1001.5\n")),
+     RangeError, ["in.csv", "row 12", "counts", "1001.5", "not an integer code", "--scale-factor"]),
+    ("filter-cal-corrupt", case_text("filter", WEIGH, extra=["--cal", "{tmp}/in.csv"]),
+     ModelFileError, ["in.csv"]),
     ("filter-window-out-of-range", case_text("filter", WEIGH, extra=["--window", "100"]),
      RangeError, ["window", "100", "3..32"]),
     ("filter-nonpositive-R", case_text("filter", WEIGH, extra=["--R", "0"]), RangeError, ["R", "> 0"]),
@@ -272,6 +279,15 @@ CASES = [
      SaturationError, ["in.csv", "row 17", "counts", "8388607", "saturat"]),
     ("calibrate-scale-bad-c-name", case_text("calibrate-scale", SCALE, extra=["--header", "{tmp}/cal.h", "--name", "9x"]),
      InputFileError, ["--name", "9x", "C identifier"]),
+    ("calibrate-scale-log-no-rate", case_text("calibrate-scale", WEIGH, extra=["--column", "counts",
+                                                                              "--masses", "0,1"]),
+     InputFileError, ["--time", "--rate"]),
+    ("calibrate-scale-log-fewer-loads", case_text("calibrate-scale", STEP_LOG, extra=[
+        "--column", "counts", "--masses", "0,1,2", "--time", "t"]),
+     InsufficientDataError, ["3 masses given", "2 still loads"]),
+    ("calibrate-scale-log-more-loads", case_text("calibrate-scale", STEP_LOG, extra=[
+        "--column", "counts", "--masses", "0", "--time", "t"]),
+     RangeError, ["1 masses given", "2 still loads"]),
     # demo on a user's copy of the recording
     ("demo-empty-file", case_text("demo", ""), InputFileError, ["in.csv", "empty"]),
     ("demo-missing-column", case_text("demo", "a,b\n1,2\n"), InputFileError, ["in.csv", "missing column"]),

@@ -6,7 +6,8 @@ on the host from the same calibration: the slot the A/B loader picks (the
 newer one; the older one when the newer was cut off half-written), the
 compensated readings and their status (one beyond the calibrated range:
 clamped and flagged), and the weighing chain's fixed-point outputs, stable
-flags and statuses on raw HX711 codes with a read glitch and a step.
+flags and statuses of the default chain (sig_chain_params_auto_q, noise
+measured on the fly) on raw HX711 codes with a read glitch and a step.
 
 The 8051 firmware runs with its timer interrupt firing every 256 machine
 cycles (the results must still be exact), its internal stack is measured in
@@ -73,7 +74,7 @@ def host(cal):
     st, which = image_select_slot(*slots)
     assert st == Status.OK
     comp, comp_st = Tcomp16Q.from_image(slots[which]).apply(cal["temp_centi"], cal["readings"])
-    chain = Chain("recommended", fixed=True, units_per_kg=cal["units_per_kg"])
+    chain = Chain(fixed=True)                           # the default, as node.c builds it in C
     y, stable, chain_st = chain.process(np.array(cal["samples"], dtype=float), flags=True)
     q7 = np.round(y * 128).astype(np.int64)
     assert np.array_equal(q7 / 128, y)                  # the fixed chain's output is exact Q24.7
@@ -107,7 +108,7 @@ def check(got, want, variant):
 
 
 def build_with_runner(target, gen):
-    sources = [COMMON / "node.c"] + runner.csrc_sources("sig_chain", "sig_tcomp16", "sig_image")
+    sources = [COMMON / "node.c"] + runner.csrc_sources("sig_chain", "sig_chain_auto", "sig_tcomp16", "sig_image")
     main = TARGETS[target] / "main.c"
     if target == "msp430":
         return runner.build_msp430(sources, main, hwmult=True, include_dirs=[gen, COMMON])

@@ -128,6 +128,12 @@ def test_chain_mcs51_refuses_what_it_cannot_hold():
         ChainMcs51(dict(f, a0=9000))              # wider than the int16 window range allows
     with pytest.raises(RangeError, match="8051"):
         ChainMcs51(dict(f, window=2))
+    # the default chain (thresholds following the measured noise, ramps,
+    # backed stable) is not ported: init refuses it rather than run it wrong
+    with pytest.raises(RangeError, match="8051"):
+        ChainMcs51(dict(f, noise_auto=True))
+    with pytest.raises(RangeError, match="8051"):
+        ChainMcs51(vectors.chain_case(preset="auto").fixed)
     with pytest.raises(RangeError, match="settle"):
         gain_table(f["q_q30"], f["p0_q16"], max_len=50)
 

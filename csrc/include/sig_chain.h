@@ -201,6 +201,13 @@ typedef struct {
  * 0.01 kg, count 1; no lock-out fix, no motion mode, no zero tracking. */
 sig_status sig_chain_params_paper_f(sig_chain_params_f *p);
 
+/* The default chain ("auto", sig_chain_auto.c): no sensor constant and no
+ * unit; the noise is measured on the fly (noise_auto) and the thresholds
+ * follow it; the Kalman filter is set by ratios (r = 1: q and p0 are Q/R and
+ * P0/R).  The same parameters as pysig's default Chain(), float and fixed. */
+sig_status sig_chain_params_auto_f(sig_chain_params_f *p);
+sig_status sig_chain_params_auto_q(sig_chain_params_q *p);
+
 sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p);
 sig_status sig_chain_reset_f(sig_chain_f *c);        /* all stages, offset 0 */
 sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *stable);   /* a buffer at once: sig_chain_batch.h */

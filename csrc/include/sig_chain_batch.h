@@ -17,10 +17,11 @@
  * one gives out NaN, stable 0.  In the steady state (every stage seeded,
  * |sample| and the window within 1e300 (double) / 1e36 (float), so that no
  * sum can overflow, and no lock-out re-seed on the sample) the sample runs on
- * a fast path with the stage state in locals;
- * every other sample, and the last one, goes through sig_chain_step_f.
- * With noise_auto (thresholds that change every sample) every sample goes
- * through sig_chain_step_f. */
+ * a fast path with the stage state in locals (with noise_auto the drift
+ * blocks, the backing of `stable`, the noise estimate and the thresholds
+ * that follow it too; a ramp and a second rejection on one side, where a
+ * ramp may start, are not the steady state);
+ * every other sample, and the last one, goes through sig_chain_step_f. */
 sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_real *out, uint8_t *stable);
 
 /* n codes -> out_q7, stable (0/1), as n calls of sig_chain_step_q; returns

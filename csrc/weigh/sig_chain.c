@@ -60,46 +60,15 @@ static void restart_kf_q(sig_chain_q *c)
 /* noise_auto: the thresholds from the measured sigma (sig_chain.h) */
 static void set_thresholds_f(sig_chain_f *c)
 {
-    sig_real s = c->noise.sigma;
     if (!c->noise_auto) return;
-    /* no difference seen yet: no impulse can be told from noise, take all */
-    c->limit.a0 = SIG_REAL(6.0) * (c->noise.count == 0u ? SIG_NOISE_MAX_F : s);
-    c->motion_band = SIG_REAL(1.5) * s;
-    c->st.step = SIG_REAL(0.25) * s;
-    c->zero_band = SIG_REAL(2.0) * s;
-    c->zero_rate = SIG_REAL(0.0625) * s;
-    c->near_band = SIG_REAL(3.0) * s;
+    sig_chain_thresholds_f(c->noise.sigma, c->noise.count == 0u, &c->limit.a0, &c->motion_band,
+                           &c->st.step, &c->zero_band, &c->zero_rate, &c->near_band);
 }
 #endif /* SIG_NO_FLOAT */
 
-/* noise_auto, after the stages: whether this sample may update the noise
- * estimate (bool `update`) - not on a motion or re-seed event nor for a
- * window after it, not on a rejected sample nor the one after it
- * (sig_chain.h) - and the escape when updates have been held too long (the
- * estimator's update count drops back to 8: large steps again).  A macro
- * over either chain (the fields have the same names in both): on the 8051 a
- * call, even an inlined one, costs more than the test. */
-#define NOISE_GATE(c, ret, update) do {                                              \
-        bool event_ = ((ret) & (SIG_CHAIN_MOTION | SIG_LIMIT_RESEEDED | SIG_CHAIN_RAMP)) != 0; \
-        bool rejected_ = ((ret) & SIG_WARN_REJECTED) != 0;                           \
-        sig_chain_gate *g_ = &(c)->gate;                                             \
-        if (event_) g_->holdoff = (c)->ap.n;                                         \
-        else if (g_->holdoff > 0u) g_->holdoff--;                                    \
-        if (((ret) & SIG_CHAIN_RAMP) != 0) {                                         \
-            (update) = false;                   /* a pour is never noise */          \
-        } else if (!event_ && !rejected_ && !g_->rejected_prev && g_->holdoff == 0u  \
-                   && (c)->motion_run == 0u) {                                       \
-            if (g_->frozen > 0u) g_->frozen--;                                       \
-            (update) = true;                                                         \
-        } else {                                                                     \
-            if (g_->frozen < 2u * SIG_CHAIN_NOISE_FROZEN_MAX) g_->frozen++;          \
-            if (g_->frozen == SIG_CHAIN_NOISE_FROZEN_MAX && (c)->noise.count > 8u)   \
-                (c)->noise.count = 8u;                                               \
-            (update) = g_->frozen >= SIG_CHAIN_NOISE_FROZEN_MAX                      \
-                       || (c)->noise.count < SIG_NOISE_WARMUP;                       \
-        }                                                                            \
-        g_->rejected_prev = rejected_;                                               \
-    } while (0)
+/* noise_auto: the gate of the noise estimator (sig_chain_stages.h) */
+#define NOISE_GATE(c, ret, update) \
+    SIG_CHAIN_NOISE_GATE((c)->gate, ret, (c)->ap.n, (c)->motion_run, (c)->noise.count, update)
 
 static void noise_gate_reset(sig_chain_gate *g)
 {
@@ -370,17 +339,9 @@ static bool params_ok_q(const sig_chain_params_q *p)
 
 static void set_thresholds_q(sig_chain_q *c)
 {
-    int32_t s = c->noise.sigma;                 /* Q24.7, <= 2^27: 6 s fits */
-    int32_t s2, a0;
     if (!c->noise_auto) return;
-    s2 = s << 1;
-    a0 = (s2 + s2 + s2 + 64) >> 7;              /* 6 s, rounded to codes; no multiply */
-    c->limit.a0 = c->noise.count == 0u ? 2 * SIG_CODE_MAX : (a0 > 0 ? a0 : 1);
-    c->motion_band = s + (s >> 1);
-    c->st.step = s >> 2;
-    c->zero_band = s2;
-    c->zero_rate = s >> 4;
-    c->near_band = s2 + s;
+    SIG_CHAIN_THRESHOLDS_Q(c->noise.sigma, c->noise.count == 0u, c->limit.a0, c->motion_band,
+                           c->st.step, c->zero_band, c->zero_rate, c->near_band);
 }
 
 static sig_status noise_step_q(sig_chain_q *c, int32_t x, sig_status ret)

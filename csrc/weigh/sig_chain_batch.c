@@ -1,6 +1,7 @@
 /* sig_chain_batch.c - the chain over a buffer of samples; see sig_chain_batch.h. */
 #include "sig_chain_batch.h"
 #include "sig_chain_stages.h"
+#include "sig_noise_stages.h"
 
 /* Host and 32-bit firmware only.  Under sdcc --stack-auto the fast path's
  * frame (about 259 bytes) outgrows the 8051's internal RAM and its frame
@@ -29,7 +30,14 @@
         sum = c->ap.sum; mx = c->ap.mx; mn = c->ap.mn; head = c->ap.head; held = c->ap.count; \
         kx = c->kf.x; kp = c->kf.p; kk = c->kf.k; conv = c->kf.converged; \
         prev = c->st.prev; srun = c->st.run; mrun = c->motion_run; offset = c->offset; \
-        fast = c->limit.t.seeded && held != 0u && c->kf.seeded && c->st.has_prev \
+        a0 = c->limit.a0; band = c->motion_band; step = c->st.step; zband = c->zero_band; \
+        zrate = c->zero_rate; nearb = c->near_band; \
+        nz.prev = c->noise.prev; nz.sigma = c->noise.sigma; nz.res = c->noise.res; \
+        nz.count = c->noise.count; nz.has_prev = c->noise.has_prev; \
+        gate.rejected_prev = c->gate.rejected_prev; gate.holdoff = c->gate.holdoff; gate.frozen = c->gate.frozen; \
+        stab = c->stable; settled = c->settled; \
+        anchor = c->anchor; dage = c->drift_age; drifting = c->drifting; \
+        fast = c->limit.t.seeded && held != 0u && c->kf.seeded && c->st.has_prev && !c->ramp \
                && mx <= FAST_MAX && mn >= -FAST_MAX; \
     } while (0)
 #define HOT_STORE_F() do { \
@@ -37,6 +45,13 @@
         c->ap.sum = sum; c->ap.mx = mx; c->ap.mn = mn; c->ap.head = head; c->ap.count = held; \
         c->kf.x = kx; c->kf.p = kp; c->kf.k = kk; c->kf.converged = conv; \
         c->st.prev = prev; c->st.run = srun; c->motion_run = mrun; c->offset = offset; \
+        c->limit.a0 = a0; c->motion_band = band; c->st.step = step; c->zero_band = zband; \
+        c->zero_rate = zrate; c->near_band = nearb; \
+        c->noise.prev = nz.prev; c->noise.sigma = nz.sigma; c->noise.res = nz.res; \
+        c->noise.count = nz.count; c->noise.has_prev = nz.has_prev; \
+        c->gate.rejected_prev = gate.rejected_prev; c->gate.holdoff = gate.holdoff; c->gate.frozen = gate.frozen; \
+        c->stable = stab; c->settled = settled; \
+        c->anchor = anchor; c->drift_age = dage; c->drifting = drifting; \
     } while (0)
 
 /* The batch form of sig_chain_step_f: x[0..n) -> out, stable (0/1).
@@ -44,39 +59,40 @@
  * FAST_MAX, no lock-out re-seed on this sample) a sample takes the fast path:
  * the operations of the stage step functions for that case, in the same
  * order, on the state held in locals; any other sample, and the last one,
- * goes through sig_chain_step_f.  Results are those of n calls of sig_chain_step_f, bit
- * for bit (tests/test_chain.py); the status returned is the last sample's
- * (a non-finite sample before the first finite one gives NaN, not stable). */
+ * goes through sig_chain_step_f.  With noise_auto the fast path also does
+ * what the step path adds outside a ramp: the Kalman filter started again
+ * on the window's trimmed mean while the window fills or the detector has
+ * not settled, the drift blocks, the backing of `stable`, the noise gate
+ * and estimator and the thresholds from the new sigma (in the locals,
+ * written back with the rest of the hot state); a ramp, and a second
+ * rejection on one side (a ramp may start), go to the step path.  Results
+ * are those of n calls of sig_chain_step_f, bit for bit (tests/test_chain.py,
+ * tests/test_chain_batch_auto.py, tests/test_chain_c.py); the status
+ * returned is the last sample's (a non-finite sample before the first
+ * finite one gives NaN, not stable). */
 sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_real *out, uint8_t *stable)
 {
     size_t i;
     sig_status st;
-    bool s, conv, fast, accept;
+    bool s, conv, fast, accept, stab, settled, drifting, nauto, seed_first, update;
     sig_real dc, sum, mx, mn, kx, kp, kk, prev, offset;      /* hot state */
-    uint8_t head, held, lrun, srun, mrun;
+    sig_real anchor;                                         /* noise_auto: hot state too, */
+    sig_noise_f nz;                 /* with the estimator and its gate (copied field by field: */
+    sig_chain_gate gate;            /* a whole-struct copy costs a store-forwarding stall) */
+    uint8_t head, held, lrun, srun, mrun, dage;
     int8_t lside, side;
     sig_real xi, y, d, m, m1, old, e, xk, v, pm, den, pn;
     uint8_t j, nrun;
     /* parameters, in locals: the stores to the window and to out[] could
-     * otherwise alias them and force a reload every sample */
-    sig_real a0, inv, band, kq, kr, step, zband, zrate;
+     * otherwise alias them and force a reload every sample (with noise_auto
+     * the thresholds change every sample: hot state, written back with it) */
+    sig_real a0, inv, band, kq, kr, kx0, kp0, step, zband, zrate, nearb;
     uint8_t wn, lockout_n, motion_count, stable_count;
     if (!c || (n != 0u && (!x || !out || !stable))) return SIG_ERR_ARG;
     if (n == 0u) return SIG_OK;
-    if (c->noise_auto) {                       /* thresholds change every sample: the step path */
-        st = SIG_OK;
-        for (i = 0u; i < n; i++) {
-            st = sig_chain_step_f(c, x[i], &out[i], &s);
-            if (st < 0) {
-                out[i] = x[i] - x[i];
-                s = false;
-            }
-            stable[i] = (uint8_t)s;
-        }
-        return st;
-    }
-    a0 = c->limit.a0; inv = c->ap.inv; band = c->motion_band; kq = c->kf.q; kr = c->kf.r;
-    step = c->st.step; zband = c->zero_band; zrate = c->zero_rate;
+    nauto = c->noise_auto;
+    inv = c->ap.inv; kq = c->kf.q; kr = c->kf.r; kx0 = c->kf.x0; kp0 = c->kf.p0;
+    seed_first = c->kf.seed_first;
     wn = c->ap.n; lockout_n = c->limit.t.lockout_n; motion_count = c->motion_count;
     stable_count = c->st.count;
     HOT_LOAD_F();
@@ -86,16 +102,19 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         accept = d <= a0 && -d <= a0;
         /* limit filter: accept, reject (not counted if non-finite), or the
          * lock-out re-seed, which goes to step_f with everything else */
+        st = SIG_WARN_REJECTED;
         if (fast && accept && xi <= FAST_MAX && xi >= -FAST_MAX) {
             y = xi;
             lrun = 0u;
             lside = 0;
+            st = SIG_OK;
+            if (nauto) c->prev_x = xi;         /* the ramp test's last finite sample (not read here) */
         } else if (fast && !sig_real_isfinite(xi)) {
             y = dc;
         } else {
             side = d > SIG_REAL(0.0) ? (int8_t)1 : (int8_t)-1;
             nrun = side != lside ? 1u : (lrun < 255u ? (uint8_t)(lrun + 1u) : lrun);
-            if (!fast || accept || (lockout_n != 0u && nrun >= lockout_n)) {
+            if (!fast || accept || (lockout_n != 0u && nrun >= lockout_n) || (nauto && nrun >= 2u)) {
                 HOT_STORE_F();
                 if (sig_chain_step_f(c, xi, &out[i], &s) < 0) {
                     out[i] = xi - xi;          /* NaN: non-finite before the first finite sample */
@@ -108,6 +127,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
             lside = side;
             lrun = nrun;
             y = dc;
+            if (nauto) c->prev_x = xi;
         }
         /* anti-pulse: extremes (rescan when one leaves a full window), sum, mean */
         if (held == wn) {
@@ -143,16 +163,26 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         if (held == wn) m = (sum - mx - mn) * inv;
         else if (held == 2u) m = sum * SIG_REAL(0.5);
         else m = (sum - mx - mn) / (sig_real)(held - 2u);
-        /* motion-aware settling */
+        /* motion-aware settling (noise_auto: the estimate starts again) */
         if (band > SIG_REAL(0.0) && sig_chain_motion(m - kx > band || kx - m > band, &mrun, motion_count)) {
             HOT_STORE_F();
             (void)sig_antipulse_reset_f(&c->ap);
             (void)sig_antipulse_step_f(&c->ap, y, &m1);
-            (void)sig_kalman1_restart_f(&c->kf);
+            if (nauto) (void)sig_kalman1_reset_f(&c->kf);
+            else (void)sig_kalman1_restart_f(&c->kf);
             HOT_LOAD_F();
             m = m1;
+            st = (sig_status)(st | SIG_CHAIN_MOTION);
         }
         dc = m;
+        if (nauto && (held < wn || !settled)) {
+            /* settling: the window's trimmed mean is the estimate (a Kalman
+             * reset, then its seeding step) */
+            kx = seed_first ? m : kx0;
+            kp = kp0;
+            conv = false;
+            c->kf.seeded = true;
+        }
         /* Kalman: the gain update only until P reaches its fixed point */
         if (!conv) {
             pm = kp + kq;
@@ -175,9 +205,25 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         }
         prev = xk;
         s = srun >= stable_count;
+        settled = s;
+        if (nauto) {                           /* drift blocks, then the backing of `stable` */
+            if (sig_chain_drift_due(held < wn, &dage, wn, &drifting)) {
+                if (held == wn) drifting = xk - anchor > nz.sigma || anchor - xk > nz.sigma;
+                anchor = xk;
+            }
+            if (s)
+                s = sig_chain_backed(st, held, wn, mrun, drifting,
+                                     y - xk <= nearb && xk - y <= nearb && m - xk <= nz.sigma && xk - m <= nz.sigma);
+        }
         if (s) (void)sig_chain_offset_f(xk, &offset, &c->tare_pending, zband, zrate);
         out[i] = xk - offset;
         stable[i] = (uint8_t)s;
+        stab = s;
+        if (nauto) {                           /* the noise estimate, then the thresholds */
+            SIG_CHAIN_NOISE_GATE(gate, st, wn, mrun, nz.count, update);
+            (void)sig_noise_next_f(&nz, xi, update);
+            sig_chain_thresholds_f(nz.sigma, nz.count == 0u, &a0, &band, &step, &zband, &zrate, &nearb);
+        }
     }
     /* the last sample on the step path: the state completed, its status returned */
     HOT_STORE_F();

@@ -8,6 +8,8 @@
 #define SIG_CHAIN_STAGES_H
 
 #include "sig_types.h"
+#include "sig_chain.h"
+#include "sig_chain_noise.h"
 
 /* sdcc inlines a static inline function's locals and spill temporaries into
  * the caller's frame: with --stack-auto sig_chain_step_q's frame grew past
@@ -148,5 +150,21 @@ SIG_CHAIN_STAGE bool sig_chain_offset_q(int32_t xk, int32_t *offset, bool *tare_
     *offset = sig_sat_add32(*offset, dz > zrate ? zrate : (dz < -zrate ? -zrate : dz));
     return false;
 }
+
+/* noise_auto: the thresholds from the measured sigma s (sig_chain.h;
+ * fixed point: SIG_CHAIN_THRESHOLDS_Q in sig_chain_noise.h); with
+ * no difference seen yet (`none`) no impulse can be told from noise: A0
+ * takes every sample. */
+SIG_CHAIN_STAGE void sig_chain_thresholds_f(sig_real s, bool none, sig_real *a0, sig_real *band,
+                                          sig_real *step, sig_real *zband, sig_real *zrate, sig_real *nband)
+{
+    *a0 = SIG_REAL(6.0) * (none ? SIG_NOISE_MAX_F : s);
+    *band = SIG_REAL(1.5) * s;
+    *step = SIG_REAL(0.25) * s;
+    *zband = SIG_REAL(2.0) * s;
+    *zrate = SIG_REAL(0.0625) * s;
+    *nband = SIG_REAL(3.0) * s;
+}
+
 
 #endif /* SIG_CHAIN_STAGES_H */

@@ -1,21 +1,9 @@
 /* sig_noise.c - the noise sigma measured on the fly; see sig_noise.h. */
 #include "sig_noise.h"
 #include "sig_antipulse.h"
+#include "sig_noise_stages.h"
 
 #ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
-static sig_real floor_f(sig_real x, sig_real res)
-{
-    sig_real f = (x < SIG_REAL(0.0) ? -x : x) * SIG_NOISE_FLOOR_REL;
-    sig_real q = res * SIG_REAL(0.25);
-    if (q > f) f = q;
-    return f > SIG_NOISE_FLOOR_ABS ? f : SIG_NOISE_FLOOR_ABS;
-}
-
-/* the step's shift: large steps while the estimate is new */
-static uint8_t step_shift(uint8_t count)
-{
-    return count < 8u ? 2u : (count < SIG_NOISE_WARMUP ? 3u : (count < 56u ? 4u : 5u));
-}
 
 sig_status sig_noise_reset_f(sig_noise_f *s)
 {
@@ -30,40 +18,13 @@ sig_status sig_noise_reset_f(sig_noise_f *s)
 
 sig_status sig_noise_step_f(sig_noise_f *s, sig_real x, bool update)
 {
-    sig_real d, up, lo;
-    uint8_t sh;
     if (!s) return SIG_ERR_ARG;
-    if (!sig_real_isfinite(x)) return SIG_WARN_REJECTED;
-    d = x - s->prev;                            /* may overflow to inf: counts as large */
-    if (d < SIG_REAL(0.0)) d = -d;
-    if (s->has_prev && d > SIG_REAL(0.0) && d < SIG_NOISE_MAX_F && (d < s->res || s->res == SIG_REAL(0.0)))
-        s->res = d;                             /* the code size of a quantised signal */
-    if (s->has_prev && update) {
-        if (s->count == 0u) {
-            s->sigma = d < SIG_NOISE_MAX_F ? d : SIG_NOISE_MAX_F;
-        } else {
-            sh = step_shift(s->count);
-            up = s->sigma * (sh == 2u ? SIG_REAL(0.25) : (sh == 3u ? SIG_REAL(0.125)
-                             : (sh == 4u ? SIG_REAL(0.0625) : SIG_REAL(0.03125))));
-            if (d > s->sigma) {
-                s->sigma = s->sigma + up;
-                if (s->sigma > SIG_NOISE_MAX_F) s->sigma = SIG_NOISE_MAX_F;
-            } else if (d < s->sigma) {
-                s->sigma = s->sigma - (up - up * SIG_REAL(0.125));
-            }
-        }
-        if (s->count < 255u) s->count++;
-    }
-    lo = floor_f(x, s->res);
-    if (s->sigma < lo) s->sigma = lo;
-    s->prev = x;
-    s->has_prev = true;
-    return SIG_OK;
+    return sig_noise_next_f(s, x, update);
 }
 
 bool sig_noise_at_floor_f(const sig_noise_f *s)
 {
-    return s->sigma <= floor_f(s->prev, s->res);
+    return s->sigma <= sig_noise_floor_f(s->prev, s->res);
 }
 #endif /* SIG_NO_FLOAT */
 

@@ -17,6 +17,7 @@ chain_fixed_params
 calibrate, Calibration,       counts -> mass from standard masses (JSON, C header)
 load_calibration
 find_plateaus                 the held levels of a recording (for calibration)
+plateaus_at_masses            a raw log's still loads matched to the masses put on
 first_saturated,              a 24-bit converter's rail codes (never filtered)
 saturated_count
 analyse_recording,            the chain on a recording of held loads (the demo):
@@ -44,7 +45,7 @@ from ._presets import (
     CHAIN_MOTION, CHAIN_NOISE_FLOOR, CHAIN_RAMP, CODE_MAX, CHAIN_TARED, LIMIT_RESEEDED, PRESETS, WARN_CLAMPED,
     WARN_REJECTED, chain_fixed_params, chain_params)
 from ._calibration import (Calibration, calibrate, find_plateaus, first_saturated, load_calibration,
-                           saturated_count)
+                           plateaus_at_masses, saturated_count)
 from ._events import EventCounter
 from ._recording import LOADED as RECORDING_CHANNELS
 from ._recording import analyse_loaded as analyse_recording
@@ -54,7 +55,7 @@ from ._recording import plot_channel as plot_recording
 
 __all__ = ["Chain", "LimitFilter", "AntiPulse", "Kalman1", "StabilityDetector", "NoiseEstimator", "PRESETS",
            "chain_params", "chain_fixed_params", "calibrate", "Calibration", "load_calibration",
-           "find_plateaus", "first_saturated", "saturated_count", "analyse_recording", "load_recording",
+           "find_plateaus", "plateaus_at_masses", "first_saturated", "saturated_count", "analyse_recording", "load_recording",
            "plot_recording", "bundled_recording", "RECORDING_CHANNELS", "CODE_MAX",
            "WARN_CLAMPED", "WARN_REJECTED", "LIMIT_RESEEDED", "CHAIN_MOTION", "CHAIN_TARED", "CHAIN_NOISE_FLOOR", "CHAIN_RAMP",
            "EventCounter"]

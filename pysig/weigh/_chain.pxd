@@ -121,6 +121,8 @@ cdef extern from "sig_chain.h":
         sig_noise_q noise
         int32_t offset
         c_bool tare_pending, stable, noise_auto
+    sig_status sig_chain_params_auto_f(sig_chain_params_f *p) nogil
+    sig_status sig_chain_params_auto_q(sig_chain_params_q *p) nogil
     sig_status sig_chain_init_f(sig_chain_f *c, const sig_chain_params_f *p) nogil
     sig_status sig_chain_reset_f(sig_chain_f *c) nogil
     sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, c_bool *stable) nogil

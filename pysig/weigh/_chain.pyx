@@ -48,6 +48,29 @@ cdef _check_init(sig_status st, what):
         raise RangeError(f"{what}: parameters rejected by the C core (status {st})")
 
 
+def auto_params(fixed=False):
+    """The default chain's parameters as the C core's constructors give them
+    (sig_chain_params_auto_f / sig_chain_params_auto_q): a dict of the
+    sig_chain_params_f / sig_chain_params_q fields.  The auto preset of
+    pysig.weigh._presets must produce the same (tests/test_chain_auto_params.py)."""
+    cdef sig_chain_params_f pf
+    cdef sig_chain_params_q pq
+    if fixed:
+        sig_chain_params_auto_q(&pq)
+        return dict(a0=pq.a0, window=pq.window, q_q30=pq.q_q30, p0_q16=pq.p0_q16, x0_q7=pq.x0_q7,
+                    seed_first=bool(pq.seed_first), stable_step_q7=pq.stable_step_q7,
+                    stable_count=pq.stable_count, lockout_n=pq.lockout_n,
+                    motion_band_q7=pq.motion_band_q7, motion_count=pq.motion_count,
+                    zero_band_q7=pq.zero_band_q7, zero_rate_q7=pq.zero_rate_q7,
+                    noise_auto=bool(pq.noise_auto))
+    sig_chain_params_auto_f(&pf)
+    return dict(a0=pf.a0, window=pf.window, q=pf.q, r=pf.r, p0=pf.p0, x0=pf.x0,
+                seed_first=bool(pf.seed_first), stable_step=pf.stable_step,
+                stable_count=pf.stable_count, lockout_n=pf.lockout_n, motion_band=pf.motion_band,
+                motion_count=pf.motion_count, zero_band=pf.zero_band, zero_rate=pf.zero_rate,
+                noise_auto=bool(pf.noise_auto))
+
+
 # ---- stage 1 ---------------------------------------------------------------
 cdef class LimitFilter:
     """Limit filter, the chain's first stage: a sample further than `a0`

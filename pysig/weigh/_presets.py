@@ -88,7 +88,10 @@ PRESETS = {
     # motion band, the stability step and the zero-tracking band and rate
     # follow it (noise_thresholds); R "auto".  The Kalman filter is set by
     # ratios only: Q and P0 here are Q/R and P0/R.  An explicit R (signal
-    # units squared) fixes sigma = sqrt(R) instead of measuring it.
+    # units squared) fixes sigma = sqrt(R) instead of measuring it.  The
+    # firmware builds the same chain with sig_chain_params_auto_f/_q
+    # (csrc/weigh/sig_chain_auto.c); tests/test_chain_auto_params.py keeps
+    # these numbers equal to the C constructors'.
     "auto": dict(A0=AUTO, window=12, Q=1e-3, R=AUTO, x0=0.0, P0=10.0, seed_first=True,
                  stable_step=AUTO, stable_count=5, lockout_n=3,
                  motion_band=AUTO, motion_count=2, zero_band=AUTO, zero_rate=AUTO,

@@ -28,6 +28,7 @@ cdef extern from "sig_chain.h":
         uint8_t motion_count
         int32_t zero_band_q7
         int32_t zero_rate_q7
+        bint noise_auto
 
 cdef extern from "sig_chain_mcs51_gains.c":
     pass
@@ -70,7 +71,7 @@ cdef class ChainMcs51:
         self.p.stable_step_q7 = fixed["stable_step_q7"]; self.p.stable_count = fixed["stable_count"]
         self.p.lockout_n = fixed["lockout_n"]; self.p.motion_band_q7 = fixed["motion_band_q7"]
         self.p.motion_count = fixed["motion_count"]; self.p.zero_band_q7 = fixed["zero_band_q7"]
-        self.p.zero_rate_q7 = fixed["zero_rate_q7"]
+        self.p.zero_rate_q7 = fixed["zero_rate_q7"]; self.p.noise_auto = fixed.get("noise_auto", False)
         self.gains = gain_table(self.p.q_q30, self.p.p0_q16)
         self.reset()
 

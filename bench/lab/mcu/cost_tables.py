@@ -437,7 +437,7 @@ def chain_row_mcs51_port(case=None) -> tuple:
     case = case or vectors.chain_case(n=CHAIN_PORT_N)
     n = len(case.x)
     gains = gain_table(case.fixed["q_q30"], case.fixed["p0_q16"])
-    tag = "" if n == CHAIN_PORT_N else f"-n{n}"
+    tag = ("" if case.preset == vectors.CHAIN_PRESET else f"-{case.preset}") + ("" if n == CHAIN_PORT_N else f"-n{n}")
     gen = runner.BUILD_DIR / "gen" / f"chain-mcs51{tag}"
     vectors.write_chain_mcs51_header(case, gains, gen / "chain_vectors.h")
     img = runner.build_mcs51([CHAIN_MCS51], HARNESS / "chain_mcs51_harness.c", [],

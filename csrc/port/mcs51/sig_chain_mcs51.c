@@ -235,10 +235,12 @@ static int16_t window_step(int16_t y)
 }
 
 /* ---- init ------------------------------------------------------------------- */
-/* the checks of sig_chain_init_q (sig_chain.c), plus the port's own range */
+/* the checks of sig_chain_init_q (sig_chain.c), plus the port's own range
+ * and the fixed thresholds it runs (noise_auto is not ported:
+ * sig_chain_mcs51.h) */
 static bool params_ok(const sig_chain_params_q *p)
 {
-    return p->a0 > 0 && p->a0 <= SIG_CHAIN_MCS51_A0_MAX
+    return !p->noise_auto && p->a0 > 0 && p->a0 <= SIG_CHAIN_MCS51_A0_MAX
         && p->window >= 3u && p->window <= SIG_ANTIPULSE_MAX
         && p->q_q30 <= SIG_KALMAN1_Q_MAX && p->p0_q16 <= SIG_KALMAN1_P0_MAX
         && p->stable_step_q7 >= 0 && p->stable_count >= 1u

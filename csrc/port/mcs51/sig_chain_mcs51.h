@@ -33,11 +33,14 @@
  * so init accepts A0 <= 8191 codes (a quarter of the int16 range; the
  * bit-exactness tests draw A0 up to it).
  *
- * A further stage (e.g. an on-line noise estimate fed by the window's
- * deviations or the innovation) fits as one more block in
- * sig_chain_mcs51_step between the Kalman update and the stability test,
- * with its state as more fields of sig_chain_mcs51_state; on the host its
- * bit-exactness is checked by the same test against the portable chain. */
+ * Fixed thresholds only: the default chain (noise_auto: the noise measured
+ * on the fly, every threshold following it, the ramp follower and the
+ * backing of `stable`; sig_chain.h) is not ported, and init refuses it
+ * with SIG_ERR_ARG.  An 8051 node runs the default on the portable chain
+ * (sig_chain_step_q; examples/firmware does).  A further stage fits as one
+ * more block in sig_chain_mcs51_step, with its state as more fields of
+ * sig_chain_mcs51_state; on the host its bit-exactness is checked by the
+ * same test against the portable chain. */
 #ifndef SIG_CHAIN_MCS51_H
 #define SIG_CHAIN_MCS51_H
 
@@ -113,7 +116,8 @@ sig_status sig_chain_mcs51_gains(uint32_t q_q30, uint32_t p0_q16, uint32_t *tabl
 /* Initialise the chain from p (as sig_chain_init_q) and the gain table of
  * sig_chain_mcs51_gains for the same q, p0 (kept by address, not copied).
  * SIG_ERR_ARG (nothing changed) for parameters sig_chain_init_q rejects,
- * A0 above SIG_CHAIN_MCS51_A0_MAX, a NULL table or n_gains == 0. */
+ * A0 above SIG_CHAIN_MCS51_A0_MAX, noise_auto (not ported), a NULL
+ * table or n_gains == 0. */
 sig_status sig_chain_mcs51_init(const sig_chain_params_q *p,
                                 const SIG_MCS51_CODE uint32_t *gains, uint16_t n_gains) SIG_MCS51_REENTRANT;
 sig_status sig_chain_mcs51_reset(void);

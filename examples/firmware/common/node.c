@@ -19,8 +19,7 @@ sig_status node_weight_status[CAL_N_SAMPLES];
 /* Static, not on the stack: the 8051 has 256 bytes of internal RAM. */
 static sig_tcomp16_q model;
 static sig_chain_q chain;
-/* Designated fields: a parameter added to the struct later starts at 0 (off). */
-static const sig_chain_params_q chain_params = CAL_CHAIN_PARAMS_Q;
+static sig_chain_params_q chain_params;
 
 /* Boot: the newer valid slot wins; a slot left invalid by a power cut
  * while it was written is skipped, so the previous calibration stays. */
@@ -43,6 +42,9 @@ sig_status node_demo(void)
     node_start_status = load_calibration();
     if (node_start_status < 0)
         return node_start_status;
+    /* the default chain: no sensor constant, the thresholds follow the
+     * noise it measures on the samples */
+    (void)sig_chain_params_auto_q(&chain_params);
     node_start_status = sig_chain_init_q(&chain, &chain_params);
     if (node_start_status < 0)
         return node_start_status;

@@ -24,14 +24,21 @@ converted to signal units with --units-per-kg.  The presets `recommended`
 and `adaptive` derive their thresholds from --R, the variance of one reading
 of your sensor (--A0 auto = A0-sigmas * sqrt(R); --motion-band auto =
 motion-sigmas * sqrt(R / (window - 2))): give your sensor's R and they follow.  --fixed runs the firmware's
-fixed-point C code (samples rounded to integer codes).  A missing sample
-(an empty or nan cell, pysig.io) is replaced as an impulse and counted; the
-fixed form refuses it."""
+fixed-point C code on integer codes: a column that is not integers is
+refused (no silent rounding); --scale-factor K multiplies it into integer
+codes first (e.g. 10 for grams read in 0.1 g steps) and divides the output
+back.  A missing sample (an empty or nan cell, pysig.io) is replaced as an
+impulse and counted; the fixed form refuses it.
+
+--cal cal.json (from `pysig calibrate-scale`) turns counts into mass: the
+chain runs on the mass (float), or on the codes minus the calibration's zero
+(--fixed, the output times its gain), and OUT's filtered column is the mass,
+named `filtered_<unit>`."""
 import numpy as np
 import pyarrow as pa
 
-from ...weigh import CODE_MAX, PRESETS, Chain, EventCounter
-from ...errors import InputFileError, NonFiniteError, SaturationError
+from ...weigh import CODE_MAX, PRESETS, Chain, EventCounter, load_calibration
+from ...errors import InputFileError, NonFiniteError, RangeError, SaturationError
 from ...io import MISSING_TEXT, from_numpy, numeric_column, read_header, read_table, row_label
 from ...io_stream import iter_batches, progress, table_sink
 
@@ -71,7 +78,11 @@ def register(sub):
     p.add_argument("--column", required=True, help="column holding the samples")
     p.add_argument("-o", "--output", required=True, metavar="OUT.csv")
     p.add_argument("--preset", choices=sorted(PRESETS), default="auto")
-    p.add_argument("--fixed", action="store_true", help="use the fixed-point C path")
+    p.add_argument("--fixed", action="store_true", help="use the fixed-point C path (integer codes)")
+    p.add_argument("--scale-factor", type=float, default=None, metavar="K",
+                   help="--fixed: multiply the column by K into integer codes (the output is divided back)")
+    p.add_argument("--cal", metavar="cal.json",
+                   help="scale calibration (pysig calibrate-scale): write the filtered mass")
     p.add_argument("--units-per-kg", type=float, default=None,
                    help="signal units per kg (default: the preset's)")
     p.add_argument("--seed-first", dest="seed_first", action="store_true", default=None,
@@ -91,14 +102,22 @@ def register(sub):
     p.set_defaults(func=run)
 
 
-def _check_fixed_codes(path, column, x, offset):
-    """The fixed form takes finite ADC codes within its 25-bit range."""
+def _check_fixed_codes(path, column, x, offset, factor=None):
+    """The fixed form takes finite integer ADC codes within its 25-bit range."""
     bad = np.flatnonzero(~np.isfinite(x))
     if bad.size:
         v = float(x[bad[0]])
         what = MISSING_TEXT if np.isnan(v) else f"non-finite value {v!r}"
         raise NonFiniteError(f"{path}: row {row_label(path, offset + int(bad[0]))}, column '{column}': "
                              f"{what} (the fixed form takes ADC codes)")
+    frac = np.flatnonzero(x != np.rint(x))
+    if frac.size:
+        i = int(frac[0])
+        scaled = f" (times --scale-factor {factor:g})" if factor is not None else ""
+        raise RangeError(f"{path}: row {row_label(path, offset + i)}, column '{column}': {x[i]:.17g}{scaled} "
+                         f"is not an integer code and the fixed form would round it; scale the column "
+                         f"to integer codes with --scale-factor K (e.g. 10 for readings in steps of 0.1), "
+                         f"or leave out --fixed")
     beyond = np.flatnonzero(np.abs(x) > CODE_MAX)
     if beyond.size:
         i = int(beyond[0])
@@ -116,6 +135,30 @@ def _batches(args):
                                 batch_rows=max(1, int(args.chunk_mb * (1 << 20)) // 16))
 
 
+def _input_map(args):
+    """(samples -> chain input, chain output -> written value, name of the
+    filtered column) for --cal / --scale-factor."""
+    if args.scale_factor is not None:
+        if not args.fixed:
+            raise InputFileError("--scale-factor scales a column into the integer codes of --fixed: "
+                                 "add --fixed (the float chain takes any unit)")
+        if args.cal:
+            raise InputFileError("--scale-factor and --cal: the calibration maps the raw codes to "
+                                 "mass, give one of them")
+        k = args.scale_factor
+        if not (np.isfinite(k) and k > 0):
+            raise RangeError(f"--scale-factor {k!r}: must be a finite number > 0")
+        return (lambda x: x * k), (lambda y: y / k), "filtered"
+    if args.cal:
+        cal = load_calibration(args.cal)
+        name = f"filtered_{cal.unit}"
+        if args.fixed:
+            zero = cal.fixed()[0]          # the firmware's zero, in whole codes
+            return (lambda x: x - zero), (lambda y: y * cal.gain), name
+        return cal.to_mass, (lambda y: y), name
+    return (lambda x: x), (lambda y: y), "filtered"
+
+
 def run(args):
     header = read_header(args.input)
     if args.column not in header:
@@ -123,6 +166,7 @@ def run(args):
                              f"(columns are: {', '.join(header)})")
     overrides = {name: getattr(args, name) for _, name, _, _ in PARAMS}
     overrides["seed_first"] = args.seed_first
+    to_chain, from_chain, filtered_name = _input_map(args)
     chain = Chain(preset=args.preset, fixed=args.fixed, units_per_kg=args.units_per_kg, **overrides)
     if args.tare:
         chain.tare()
@@ -131,12 +175,14 @@ def run(args):
     with table_sink(args.output) as sink, progress(args.input) as advance:
         for offset, batch in _batches(args):
             x = numeric_column(args.input, args.column, batch[args.column], offset)
+            xin = to_chain(x)
             if args.fixed:
-                _check_fixed_codes(args.input, args.column, x, offset)
-            filtered, stable, status = chain.process(x, flags=True)
+                _check_fixed_codes(args.input, args.column, xin, offset, args.scale_factor)
+            filtered, stable, status = chain.process(xin, flags=True)
+            filtered = from_chain(filtered)
             cols = {name: batch[name] for name in batch.column_names}
             cols[args.column] = from_numpy(x)
-            cols["filtered"] = from_numpy(filtered)
+            cols[filtered_name] = from_numpy(filtered)
             cols["stable"] = from_numpy(stable.astype(np.int64))
             if args.status:
                 cols["status"] = from_numpy(status.astype(np.int64))
@@ -148,7 +194,7 @@ def run(args):
             stable_rows += int(np.count_nonzero(stable))
             advance(x.size)
     counts = events.finish()
-    print(f"wrote {args.output}: {rows} rows, preset {args.preset}"
+    print(f"wrote {args.output}: {rows} rows, {filtered_name}, preset {args.preset}"
           f"{' (fixed point)' if args.fixed else ''}, {counts['impulses']} samples replaced as impulses"
           f"{f' ({missing} missing: empty or nan)' if missing else ''}, "
           f"{counts['motion_samples']} samples of load motion (steps, pours, swings), "

@@ -1,0 +1,76 @@
+"""The default chain (auto: noise measured on the fly, thresholds following
+it) on the batch entry point (sig_chain_process_f: process() without flags)
+gives the same bits as the step loop (process(flags=True)): outputs, stable
+flags, the last status and the whole state, over signals with plateaus,
+steps, ramps, glitches and non-finite samples, split at random points, with
+a tare in between.  The batch path runs its fast path in the steady state
+here too (the noise estimator, its gate and the thresholds inside it)."""
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings, strategies as st
+
+from pysig.weigh import Chain
+
+from test_chain import _state, split
+from test_chain_noise import auto_kwargs
+
+SETTINGS = settings(max_examples=150, deadline=None)
+
+
+@st.composite
+def dynamic_signals(draw):
+    """Plateaus, steps and ramps of several slopes, impulses, NaN/inf, in any
+    unit (scale 1e-3 .. 1e6), plus split points."""
+    n = draw(st.integers(1, 700))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    scale = draw(st.sampled_from([1e-3, 1.0, 70.0, 1e6]))
+    x = np.zeros(n)
+    for _ in range(draw(st.integers(0, 4))):                     # steps
+        x[int(rng.integers(0, n)):] += draw(st.sampled_from([5.0, 30.0, 300.0, -200.0]))
+    for _ in range(draw(st.integers(0, 3))):                     # ramps (pours)
+        a = int(rng.integers(0, n))
+        b = min(n, a + int(rng.integers(2, 60)))
+        slope = draw(st.sampled_from([0.2, 1.0, 5.0, 40.0]))
+        x[a:b] += slope * np.arange(1, b - a + 1)
+        x[b:] += slope * (b - a)
+    x = (x + rng.normal(0, 1.0, n)) * scale
+    for _ in range(draw(st.integers(0, 4))):                     # glitches
+        x[int(rng.integers(0, n))] += draw(st.sampled_from([-1e3, 50.0, 4e4])) * scale
+    for _ in range(draw(st.integers(0, 2))):
+        x[int(rng.integers(0, n))] = draw(st.sampled_from([math.nan, math.inf, -math.inf]))
+    x = np.round(x) if draw(st.booleans()) else x
+    return x, sorted(draw(st.lists(st.integers(0, n), max_size=5)))
+
+
+@SETTINGS
+@given(dynamic_signals(), auto_kwargs(), st.booleans())
+def test_auto_batch_equals_the_step_loop_split(sig, kw, tare):
+    x, cuts = sig
+    stepped, batch = Chain(**kw), Chain(**kw)
+    for part in split(x, cuts):
+        o1, s1, st1 = stepped.process(part, flags=True)
+        o2, s2 = batch.process(part)
+        np.testing.assert_array_equal(o1, o2)
+        np.testing.assert_array_equal(s1, s2)
+        if len(part):
+            assert batch.status == st1[-1]
+        assert _state(batch) == pytest.approx(_state(stepped), rel=0, abs=0, nan_ok=True)
+        assert batch.sigma == stepped.sigma
+        if tare:
+            assert batch.tare() == stepped.tare()
+
+
+def test_auto_batch_runs_long_hx711_like_runs():
+    """10^5 samples of steps, noise and read glitches (the throughput bench's
+    kind of signal): batch and step loop agree on every sample."""
+    rng = np.random.default_rng(7)
+    n = 100_000
+    x = np.repeat(5800 + 10000 * rng.integers(0, 5, n // 150 + 1), 150)[:n] + rng.normal(0, 70, n)
+    x[rng.integers(0, n, n // 300)] = -8387000.0
+    o1, s1, _ = Chain().process(np.round(x), flags=True)
+    o2, s2 = Chain().process(np.round(x))
+    np.testing.assert_array_equal(o1, o2)
+    np.testing.assert_array_equal(s1, s2)
+    assert s2.mean() > 0.5                       # mostly settled: the fast path's steady state
