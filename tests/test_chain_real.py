@@ -4,13 +4,17 @@ read glitches near -2^23).  Behaviour with margins, not exact numbers:
 the recommended preset and the default (auto) let no glitch through, reaches every
 plateau and settles; the weighing paper's parameters lock out on the first step.
 
-Measured (default chain, float and fixed): settle times lc1 1.4-6.2 s
-(median 2.0 s), lc2 1.6-3.7 s float, 1.6-4.3 s fixed (median 2.05 s), from
-the first sample that leaves the previous level by 300 counts to stable AND
-within 50 counts (0.05 lb) for good; the 6.2 s plateau is one whose raw level
-itself wanders by ~60 counts.  The bounds sit just above these figures (the
-README's 5.8 s / 3.7 s count to within 0.05 lb without the stable flag, from
-the end of the previous plateau, bench/real_recordings.py)."""
+Measured (default chain, float and fixed): the output settles, from the
+first sample that leaves the previous level by 300 counts to within 50
+counts (0.05 lb) for good, in lc1 1.2-6.2 s (median 2.0 s), lc2 0.9-2.8 s
+(median 1.7 s); the 6.2 s plateau is one whose raw level itself wanders by
+~60 counts.  The stable flag is never raised on a plateau sample more than
+3 sigma (210 counts) off the load and is up on 87-100 % of the samples of
+each plateau; it drops while the load still creeps (the output moves by
+more than sigma over a window), so "stable and within 0.05 lb for good"
+comes later, up to 14.3 s on lc1, and on the first plateau of lc2 a late
+creep drops it again before the plateau ends.  The bounds sit just above
+these figures."""
 import numpy as np
 import pytest
 from scipy.ndimage import median_filter
@@ -22,7 +26,9 @@ from pysig.io import read_csv
 FS = 10.0
 COUNTS_PER_LB = 1000.0
 TOL = 50.0                                   # 0.05 lb
-SETTLE_MAX_S = {"lc1_counts": 6.5, "lc2_counts": 4.5}   # measured 6.2 s and 4.3 s (docstring)
+SETTLE_MAX_S = {"lc1_counts": 6.5, "lc2_counts": 3.5}   # measured 6.2 s and 2.8 s (docstring)
+SIGMA = 70.0                                 # plateau noise, counts (PROVENANCE.md)
+MIN_STABLE_SHARE = 0.8                       # measured 0.87 at least
 
 
 @pytest.fixture(scope="module")
@@ -40,14 +46,14 @@ def plateaus(x):
     return [(a, b) for a, b in bounds if b - a >= 60]
 
 
-def settle_times(x, out, stable):
+def settle_times(x, out):
     segs = plateaus(x)
     times = []
     for k in range(1, len(segs)):
         (pa, pb), (a, b) = segs[k - 1], segs[k]
         prev, target = np.median(x[pa + 30:pb - 25]), np.median(x[a + 30:b - 25])
         start = pb - 10 + int(np.flatnonzero(np.abs(x[pb - 10:b] - prev) > 300)[0])
-        ok = stable[start:b - 25] & (np.abs(out[start:b - 25] - target) <= TOL)
+        ok = np.abs(out[start:b - 25] - target) <= TOL
         bad = np.flatnonzero(~ok)
         times.append(np.inf if bad.size and bad[-1] == ok.size - 1 else (bad[-1] + 1) / FS if bad.size else 0.0)
     return np.array(times)
@@ -71,7 +77,11 @@ def test_recommended_on_loaded_cells(rec, channel, fixed):
         target = np.median(x[a + 30:b - 25])
         assert abs(np.mean(out[b - 45:b - 15]) - target) < TOL
         assert np.std(out[a + 40:b - 25]) < np.std(x[a + 40:b - 25]) / 1.4
-    t = settle_times(x, out, stable)
+        held = slice(a, b - 25)
+        # stable only when right, and up on most of the plateau
+        assert not np.any(stable[held] & (np.abs(out[held] - target) > 3 * SIGMA))
+        assert stable[a + 30:b - 25].mean() >= MIN_STABLE_SHARE
+    t = settle_times(x, out)
     assert np.all(t <= SETTLE_MAX_S[channel]) and np.median(t) <= 2.3, t
 
 
