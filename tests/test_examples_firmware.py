@@ -33,7 +33,7 @@ from pysig.weigh import Chain
 FIRMWARE = ROOT / "examples" / "firmware"
 COMMON = FIRMWARE / "common"
 TARGETS = {"msp430": FIRMWARE / "msp430f5510", "mcs51": FIRMWARE / "mcs51"}
-MCS51_FLAGS = ["--stack-auto"]          # the chain's call depth needs it (the Makefile adds --xstack)
+MCS51_FLAGS = ["--stack-auto", "-DSIG_NO_FLOAT"]   # call depth; fixed only, as the Makefile (which adds --xstack)
 ISR_HEADROOM = 48       # bytes of the 8051's internal RAM left free with the handler at the deepest point
 FLOAT_LIBRARY = re.compile(r"^\s*C:\s+[0-9A-F]+\s+\S+\s+_(fs\w+|\w+2fs|fs2\w+)\s*$", re.M)
 

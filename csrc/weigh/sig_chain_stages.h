@@ -151,6 +151,7 @@ SIG_CHAIN_STAGE bool sig_chain_offset_q(int32_t xk, int32_t *offset, bool *tare_
     return false;
 }
 
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* noise_auto: the thresholds from the measured sigma s (sig_chain.h;
  * fixed point: SIG_CHAIN_THRESHOLDS_Q in sig_chain_noise.h); with
  * no difference seen yet (`none`) no impulse can be told from noise: A0
@@ -165,6 +166,6 @@ SIG_CHAIN_STAGE void sig_chain_thresholds_f(sig_real s, bool none, sig_real *a0,
     *zrate = SIG_REAL(0.0625) * s;
     *nband = SIG_REAL(3.0) * s;
 }
-
+#endif /* SIG_NO_FLOAT */
 
 #endif /* SIG_CHAIN_STAGES_H */
