@@ -8,7 +8,7 @@ it holds (the temperature models' to ``pysig.tcomp``).
 ==================  ======================================================
 build_image         sections + sequence number -> image bytes (with CRC)
 read_image          the checked header and sections of an image
-find_section        one section's payload, or None
+find_section        one section's payload (ModelFileError if absent)
 crc16_ccitt         the image's CRC (CRC-16/CCITT-FALSE)
 device_section      the section that binds an image to one device's serial
 require_device      refuse an image made for another device
