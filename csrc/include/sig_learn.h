@@ -15,35 +15,61 @@
  *                raw code read as int16/uint16-32768).
  *   bins         n_bins (3..16) uniform bins of width W = 2^bin_shift
  *                (bin_shift 1..10) from t_base: bin = (t - t_base) >> bin_shift,
- *                dt = (t - t_base) & (W - 1), 0 <= dt < 1024.
+ *                dt = (t - t_base) & (W - 1), 0 <= dt < 1024; found by a
+ *                4-step search on 8W, 4W, 2W, W (the MSP430 shifts one bit
+ *                per instruction: a variable shift costs up to 10 loop turns).
  *   sums         per bin: count (uint16), sum_dt (uint32), sum_y[axis]
- *                (uint32) of y + 2048 for the raw still readings y, |y| <=
+ *                (uint32) of y + 2047 for the raw still readings y, |y| <=
  *                SIG_LEARN_Y_MAX (2047; a larger reading is not learned:
- *                SIG_LEARN_SKIPPED).  Biased so that every term is unsigned:
+ *                SIG_LEARN_SKIPPED; the test is one unsigned compare of
+ *                y + 2047 <= 4094).  Biased so that every term is unsigned:
  *                the MSP430 widens a signed int16 with a 7-step shift, an
- *                unsigned one for free; the solve takes 2048 * count off.
- *   width        count <= SIG_LEARN_COUNT_MAX = 2048: sum_y <= 2^11 * 4095
- *                < 2^23, sum_dt < 2^11 * 2^10 = 2^21, and the signed sum and
- *                sum_dt times 16 (the Q4 means of the solve) stay below
- *                2^27.  When a bin reaches 2048 samples its count and sums
- *                are halved (floor; the signed sum is then floor-halved too,
- *                as 2048 * count is even): old samples fade, the sums never
- *                overflow, heating and cooling samples are summed alike.
+ *                unsigned one for free; the solve takes 2047 * count off.
+ *   pending      successive samples of one bin are summed in 16 bits
+ *                (acc_y <= 16 * 4094 < 2^16, acc_dt < 16 * 2^10) and moved
+ *                into the bin's 32-bit sums (sig_learn_flush) when the
+ *                sample's bin differs, after 16 samples, and by the solve:
+ *                temperature moves slowly, so most samples cost 16-bit adds
+ *                and one range compare instead of the bin search and 32-bit
+ *                adds.
+ *   width        after a flush count < SIG_LEARN_COUNT_MAX + 16 = 2064:
+ *                sum_y <= 2064 * 4094 < 2^23, sum_dt < 2064 * 2^10 < 2^21,
+ *                and the signed sum and sum_dt times 16 (the Q4 means of the
+ *                solve) stay below 2^27.  When a flush takes a bin to 2048
+ *                samples or more, its count and sums are halved (floor):
+ *                old samples fade, the sums never overflow, heating and
+ *                cooling samples are summed alike.
  *   still residual  r = the stored model's output for the still sample
- *                (the caller computes it anyway: sig_tmodel_apply), in LSB.
- *   noise        per axis N += d - (N >> 5), uint16, over successive still
- *                samples, d = min(|r - r_prev|, 2047) (r clamped to +-2047):
- *                N / 32 is an EWMA over 32 samples of d in LSB, kept x32 so
- *                that the floor of the update does not bias it (N <= 32 *
- *                2047 < 2^16); for white noise E|r - r_prev| = 2 sigma /
- *                sqrt(pi) ~ 1.13 sigma.
- *   CUSUM        per axis, two-sided, on 16 * r clamped to +-2^15:
- *                  S+ = max(0, S+ + 16r - k),  S- = max(0, S- - 16r - k)
+ *                (the caller computes it anyway: sig_tmodel_apply), in LSB,
+ *                clamped to +-2047; the raw reading when no model is in use.
+ *   blocks       the residuals of SIG_LEARN_BLOCK = 8 still samples
+ *                (within the model's range) are summed (int16,
+ *                |B| <= 8 * 2047); the noise estimate and the CUSUM run once
+ *                per full block, a per-sample add in between (the MSP430
+ *                cost goal: the test's ~150 instructions spread over 8
+ *                samples).  Moving samples are left out (a block is 8
+ *                still samples however spread); a still sample beyond the
+ *                model's range or a new model drops the partial block and
+ *                breaks the series of pairs.
+ *   noise        per axis N += d - (N >> 5), uint16, over successive block
+ *                sums, d = min(|B - B_prev|, 2047): N / 32 is an EWMA over
+ *                32 blocks of d, kept x32 so that the floor of the update
+ *                does not bias it (N <= 32 * 2047 < 2^16); for white noise
+ *                E|B - B_prev| = 2 sigma_B / sqrt(pi) ~ 1.13 sigma_B and the
+ *                block mean's sigma is sigma_B / 8.
+ *   CUSUM        per axis, two-sided, int16, on the Q4 block mean x = 2 B
+ *                with B clamped to +-SIG_LEARN_CUSUM_X_MAX (4088, a mean of
+ *                511 LSB: |x| <= 8176):
+ *                  S+ = max(0, S+ + x - k),  S- = max(0, S- - x - k)
  *                stale when S+ > h or S- > h.  k = k_sigma * sigma and
- *                h = h_sigma * sigma (k_sigma, h_sigma in Q4), sigma =
- *                max(sigma_floor, N * 227 / 2^9) (Q4), refreshed by every
+ *                h = h_sigma * sigma (k_sigma, h_sigma in Q4), both limited
+ *                to SIG_LEARN_CUSUM_MAX (16383), sigma (the block mean's,
+ *                Q4) = max(sigma_floor, N * 227 / 2^12), refreshed by every
  *                sig_learn_solve (no multiply per sample); the test runs once
- *                a solve has set them after >= 32 noise samples.
+ *                a solve has set them after >= 32 block pairs.  Width: S
+ *                <= h before a block, so |S + x - k| <= 16383 + 8176 <
+ *                2^15; a crossing ends the test until a model is put in use
+ *                (a mean beyond 511 LSB counts as one of 511).
  *                Skipped (SIG_LEARN_EXTRAPOLATED) outside the stored model's
  *                range: there its correction is extrapolated, not learned.
  *   On stale     SIG_LEARN_STALE is returned by every step until a new model
@@ -57,8 +83,9 @@
  *                rdiv(16 sum_dt, count), Y_i[a] = rdiv(16 sum_y[a], count),
  *                rdiv(n, d) = sign(n) * floor((|n| + d/2) / d).
  *   interpolation between points (Tj, Yj), (Tl, Yl) at T (Q4):
- *                f = floor(((T - Tj) << 12) / (Tl - Tj)) (Q12, 0..4096; T < 2^18
- *                so the shifted difference fits 32 bits),
+ *                f = floor((n << 12) / d) (Q12, 0..4096) with n = T - Tj,
+ *                d = Tl - Tj both halved (floor) until d < 2^15 (the divisor
+ *                of a 16-step shift-subtract division; d keeps >= 14 bits),
  *                Y = Yj + asr((Yl - Yj) * f, 12).
  *   validation   held-out by temperature, leave one bin out: every covered
  *                bin is predicted from its two nearest covered bins (the
@@ -105,9 +132,13 @@
 #define SIG_LEARN_MIN_BINS   3u
 #define SIG_LEARN_COUNT_MAX  2048u
 #define SIG_LEARN_Y_MAX      2047
-#define SIG_LEARN_Y_BIAS     2048
+#define SIG_LEARN_Y_BIAS     2047
+#define SIG_LEARN_ACC_MAX    16u   /* pending samples of one bin before they go into its sums */
+#define SIG_LEARN_BLOCK      8u    /* still samples per block of the noise estimate and the CUSUM */
+#define SIG_LEARN_CUSUM_X_MAX 4088  /* |block sum| the CUSUM adds (8 x 511 LSB) */
+#define SIG_LEARN_CUSUM_MAX  16383 /* k and h, Q4 LSB */
 #define SIG_LEARN_MAX_SHIFT  10u
-#define SIG_LEARN_NOISE_MIN_N 32u
+#define SIG_LEARN_NOISE_MIN_N 32u   /* block pairs before the CUSUM is armed */
 /* bytes of the image sig_learn_solve writes at most (16 knots, 3 axes) */
 #define SIG_LEARN_IMAGE_MAX  (12u + 4u + 10u + 3u * (1u + 2u * 16u) + 4u + 2u + 2u)
 
@@ -134,19 +165,25 @@ typedef struct {
 
 typedef struct {
     sig_learn_config cfg;
-    uint32_t sum_y[SIG_LEARN_MAX_BINS][SIG_LEARN_MAX_AXES];  /* sum of (y + 2048) */
+    uint32_t sum_y[SIG_LEARN_MAX_AXES][SIG_LEARN_MAX_BINS];  /* sum of (y + 2047), axis-major: a bin's offset is a shift */
     uint32_t sum_dt[SIG_LEARN_MAX_BINS];
     uint16_t count[SIG_LEARN_MAX_BINS];
-    int32_t cusum_pos[SIG_LEARN_MAX_AXES], cusum_neg[SIG_LEARN_MAX_AXES];
-    int32_t k[SIG_LEARN_MAX_AXES], h[SIG_LEARN_MAX_AXES];  /* Q4 LSB; h == 0: test not armed */
+    uint16_t bin_w[4];      /* 8W, 4W, 2W, W: the bin search's steps (no variable shift per sample) */
+    uint16_t acc_y[SIG_LEARN_MAX_AXES];  /* pending sums of one bin: <= 16 * 4094 < 2^16 */
+    uint16_t acc_dt, acc_lo;             /* pending sum of dt (< 2^14); the bin's lower edge - t_base */
+    uint8_t acc_bin, acc_n;              /* the pending bin, its samples (< 16) */
+    int16_t cusum_pos[SIG_LEARN_MAX_AXES], cusum_neg[SIG_LEARN_MAX_AXES];
+    int16_t k[SIG_LEARN_MAX_AXES], h[SIG_LEARN_MAX_AXES];  /* Q4 LSB, <= 16383; h == 0: test not armed */
     uint16_t noise[SIG_LEARN_MAX_AXES];                    /* N: 32 x the EWMA of |d|, LSB */
-    int16_t prev_r[SIG_LEARN_MAX_AXES];
+    int16_t prev_r[SIG_LEARN_MAX_AXES];                    /* the previous block's sum */
+    int16_t block_sum[SIG_LEARN_MAX_AXES];                 /* residuals of the block so far */
     uint32_t steps;         /* sig_learn_step calls: the clock of `period` */
     uint32_t last_commit;   /* steps at the last commit */
     uint16_t noise_n;       /* successive still pairs seen, stops at 65535 */
     uint16_t grid_span;     /* n_bins << bin_shift (<= 16384), from the configuration */
     uint16_t bin_mask;      /* 2^bin_shift - 1 */
     int16_t model_lo, model_hi;   /* range of the model in use */
+    uint8_t block_n;        /* samples in the block so far */
     bool has_model, committed, stale, have_prev;
 } sig_learn;
 
@@ -172,7 +209,7 @@ typedef struct {
 typedef struct {
     sig_learn_points points;
     int32_t knots[SIG_LEARN_MAX_BINS][SIG_LEARN_MAX_AXES];  /* knot values, Q4 */
-    int32_t model[3][SIG_LEARN_MAX_AXES];                   /* the model's values, Q4 */
+    int32_t at_point[SIG_LEARN_MAX_BINS][SIG_LEARN_MAX_AXES]; /* the model's values at the points, Q4 */
 } sig_learn_scratch;
 
 /* Check the configuration and start empty, with no model in use.
@@ -181,6 +218,10 @@ sig_status sig_learn_init(sig_learn *s, const sig_learn_config *cfg);
 
 /* Forget every sample and the CUSUM (configuration, model and clock kept). */
 void sig_learn_reset(sig_learn *s);
+
+/* Move the pending samples into their bin's sums (sig_learn_solve does it
+ * first; for firmware that reads the counts). */
+void sig_learn_flush(sig_learn *s);
 
 /* The firmware now applies model m (NULL: none): its range becomes the one
  * beyond which corrections count as extrapolated; the CUSUM and the stale

@@ -1,7 +1,11 @@
 /* sig_learn.c - the learner's per-sample path: bin sums of still samples,
  * the noise estimate and the CUSUM staleness test (sig_learn.h).  No
- * division, no multiply: the CUSUM thresholds come from sig_learn_solve. */
+ * division, no multiply: the CUSUM thresholds come from sig_learn_solve;
+ * the noise estimate and the CUSUM run once per block of 8 still samples
+ * (a per-sample add in between). */
 #include "sig_learn.h"
+
+static void break_series(sig_learn *s);
 
 sig_status sig_learn_init(sig_learn *s, const sig_learn_config *cfg)
 {
@@ -21,11 +25,13 @@ sig_status sig_learn_init(sig_learn *s, const sig_learn_config *cfg)
     s->cfg = *cfg;
     s->grid_span = (uint16_t)((uint16_t)cfg->n_bins << cfg->bin_shift);
     s->bin_mask = (uint16_t)((1u << cfg->bin_shift) - 1u);
+    for (a = 0u; a < 4u; a++) s->bin_w[a] = (uint16_t)((s->bin_mask + 1u) << (3u - a));
     for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) {
         s->k[a] = 0;
         s->h[a] = 0;
         s->noise[a] = 0;
         s->prev_r[a] = 0;
+        s->block_sum[a] = 0;
     }
     s->steps = 0u;
     s->last_commit = 0u;
@@ -35,6 +41,7 @@ sig_status sig_learn_init(sig_learn *s, const sig_learn_config *cfg)
     s->has_model = false;
     s->committed = false;
     s->have_prev = false;
+    s->block_n = 0u;
     sig_learn_reset(s);
     return SIG_OK;
 }
@@ -46,12 +53,17 @@ void sig_learn_reset(sig_learn *s)
     for (b = 0u; b < SIG_LEARN_MAX_BINS; b++) {
         s->count[b] = 0u;
         s->sum_dt[b] = 0u;
-        for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) s->sum_y[b][a] = 0u;
+        for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) s->sum_y[a][b] = 0u;
     }
     for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) {
         s->cusum_pos[a] = 0;
         s->cusum_neg[a] = 0;
+        s->acc_y[a] = 0u;
     }
+    s->acc_dt = 0u;
+    s->acc_n = 0u;
+    s->acc_bin = 0u;
+    s->acc_lo = 0u;
     s->stale = false;
 }
 
@@ -83,66 +95,111 @@ sig_status sig_learn_use_model(sig_learn *s, const sig_tmodel *m)
         s->cusum_neg[a] = 0;
     }
     s->stale = false;
-    s->have_prev = false;   /* residuals of two models are not one series */
+    break_series(s);        /* residuals of two models are not one series */
     return SIG_OK;
 }
 
-/* Add a still sample to its bin; SIG_LEARN_SKIPPED when it has none.
- * 16-bit index arithmetic: the grid spans at most 16 * 2^10 units. */
+/* Move the pending samples of one bin into its 32-bit sums. */
+void sig_learn_flush(sig_learn *s)
+{
+    uint8_t a, b = s->acc_bin, n = s->cfg.n_axes;
+    if (s->acc_n == 0u) return;
+    s->sum_dt[b] += s->acc_dt;
+    for (a = 0u; a < n; a++) {
+        s->sum_y[a][b] += s->acc_y[a];
+        s->acc_y[a] = 0u;
+    }
+    s->count[b] = (uint16_t)(s->count[b] + s->acc_n);
+    s->acc_dt = 0u;
+    s->acc_n = 0u;
+    if (s->count[b] >= SIG_LEARN_COUNT_MAX) {
+        /* halve: the sums keep their width and old samples fade */
+        s->count[b] >>= 1;
+        s->sum_dt[b] >>= 1;
+        for (a = 0u; a < n; a++) s->sum_y[a][b] >>= 1;
+    }
+}
+
+/* Add a still sample to the pending sums of its bin; SIG_LEARN_SKIPPED when
+ * it has none.  16-bit arithmetic only (the MSP430 widens a signed int16 to
+ * 32 bits with a 7-step shift): the grid spans at most 16 * 2^10 units. */
 static sig_status learn_sample(sig_learn *s, int16_t t, const int16_t *raw)
 {
-    uint32_t *sum_y;
-    uint16_t d16;
+    uint16_t biased[SIG_LEARN_MAX_AXES];
+    uint16_t d16, d0, dt;
     uint8_t a, b, n = s->cfg.n_axes;
-    /* 16-bit arithmetic only (the MSP430 widens a signed int16 to 32 bits
-     * with a 7-step shift): t >= t_base, so t - t_base is 0..65535 */
     if (t < s->cfg.t_base) return SIG_LEARN_SKIPPED;
-    d16 = (uint16_t)((uint16_t)t - (uint16_t)s->cfg.t_base);
+    d16 = (uint16_t)((uint16_t)t - (uint16_t)s->cfg.t_base);     /* t >= t_base: 0..65535 */
     if (d16 >= s->grid_span) return SIG_LEARN_SKIPPED;
-    for (a = 0u; a < n; a++)
-        if (raw[a] > SIG_LEARN_Y_MAX || raw[a] < -SIG_LEARN_Y_MAX) return SIG_LEARN_SKIPPED;
-    b = (uint8_t)(d16 >> s->cfg.bin_shift);
-    s->sum_dt[b] += (uint32_t)(d16 & s->bin_mask);
-    sum_y = s->sum_y[b];
-    for (a = 0u; a < n; a++) sum_y[a] += (uint16_t)(raw[a] + SIG_LEARN_Y_BIAS);
-    if (++s->count[b] >= SIG_LEARN_COUNT_MAX) {
-        /* halve: the sums keep their width and old samples fade */
-        s->count[b] = (uint16_t)(SIG_LEARN_COUNT_MAX / 2u);
-        s->sum_dt[b] >>= 1;
-        for (a = 0u; a < n; a++) sum_y[a] >>= 1;
+    for (a = 0u; a < n; a++) {
+        /* |raw| <= 2047 as one unsigned compare; wraps above 4094 otherwise */
+        biased[a] = (uint16_t)((uint16_t)raw[a] + (uint16_t)SIG_LEARN_Y_BIAS);
+        if (biased[a] > 2u * (uint16_t)SIG_LEARN_Y_MAX) return SIG_LEARN_SKIPPED;
     }
+    dt = (uint16_t)(d16 - s->acc_lo);           /* wraps high below the pending bin */
+    if (s->acc_n == 0u || dt >= s->bin_w[3]) {
+        sig_learn_flush(s);
+        d0 = d16;
+        /* d16 < 16 W: four compares give the bin and leave dt in d16 */
+        b = 0u;
+        for (a = 0u; a < 4u; a++) {
+            b = (uint8_t)(b + b);
+            if (d16 >= s->bin_w[a]) {
+                d16 = (uint16_t)(d16 - s->bin_w[a]);
+                b |= 1u;
+            }
+        }
+        dt = d16;
+        s->acc_bin = b;
+        s->acc_lo = (uint16_t)(d0 - d16);
+    }
+    s->acc_dt = (uint16_t)(s->acc_dt + dt);
+    for (a = 0u; a < n; a++) s->acc_y[a] = (uint16_t)(s->acc_y[a] + biased[a]);
+    if (++s->acc_n >= SIG_LEARN_ACC_MAX) sig_learn_flush(s);
     return SIG_OK;
 }
 
-static int16_t clamp_y(int16_t r)
+static int16_t clamp16(int16_t r, int16_t lim)
 {
-    if (r > SIG_LEARN_Y_MAX) return SIG_LEARN_Y_MAX;
-    if (r < -SIG_LEARN_Y_MAX) return -SIG_LEARN_Y_MAX;
+    if (r > lim) return lim;
+    if (r < -lim) return (int16_t)-lim;
     return r;
 }
 
-/* Noise estimate from successive still residuals (r: resid, or raw when no
- * model is in use), then the CUSUM when the model is in range and armed.
- * true when the CUSUM crossed its threshold. */
-static bool watch_residual(sig_learn *s, const int16_t *r, bool in_range)
+/* The residual series is broken (a still sample beyond the model's range,
+ * another model): the partial block is dropped and the next
+ * block starts a new pair. */
+static void break_series(sig_learn *s)
+{
+    uint8_t a;
+    for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) s->block_sum[a] = 0;
+    s->block_n = 0u;
+    s->have_prev = false;
+}
+
+/* A full block: noise estimate from successive block sums, then the CUSUM
+ * on them when a model is in use and the thresholds are armed.  true when
+ * the CUSUM crossed its threshold.  int16 throughout (sig_learn.h: width). */
+static bool watch_block(sig_learn *s)
 {
     uint8_t a, n = s->cfg.n_axes;
-    int16_t x, d;
-    int32_t pos, neg;
+    int16_t x, p, pos, neg;
+    uint16_t d;
     bool crossed = false;
     for (a = 0u; a < n; a++) {
-        x = clamp_y(r[a]);
+        x = s->block_sum[a];
+        s->block_sum[a] = 0;
         if (s->have_prev) {
-            d = (int16_t)(x - s->prev_r[a]);          /* |d| <= 4094 */
-            if (d < 0) d = (int16_t)-d;
-            if (d > SIG_LEARN_Y_MAX) d = SIG_LEARN_Y_MAX;
-            s->noise[a] = (uint16_t)(s->noise[a] + (uint16_t)d - (uint16_t)(s->noise[a] >> 5));
+            p = s->prev_r[a];
+            d = x >= p ? (uint16_t)(x - p) : (uint16_t)(p - x);    /* <= 32752 */
+            if (d > (uint16_t)SIG_LEARN_Y_MAX) d = (uint16_t)SIG_LEARN_Y_MAX;
+            s->noise[a] = (uint16_t)(s->noise[a] + d - (uint16_t)(s->noise[a] >> 5));
         }
         s->prev_r[a] = x;
-        if (!s->has_model || !in_range || s->h[a] == 0) continue;
-        x = (int16_t)(x * 16);                       /* |16 x| <= 32752 */
-        pos = s->cusum_pos[a] + x - s->k[a];
-        neg = s->cusum_neg[a] - x - s->k[a];
+        if (!s->has_model || s->h[a] == 0) continue;
+        x = (int16_t)(clamp16(x, SIG_LEARN_CUSUM_X_MAX) * 2);      /* Q4 block mean, |x| <= 8176 */
+        pos = (int16_t)(s->cusum_pos[a] + x - s->k[a]);
+        neg = (int16_t)(s->cusum_neg[a] - x - s->k[a]);
         s->cusum_pos[a] = pos > 0 ? pos : 0;
         s->cusum_neg[a] = neg > 0 ? neg : 0;
         if (pos > s->h[a] || neg > s->h[a]) crossed = true;
@@ -150,6 +207,18 @@ static bool watch_residual(sig_learn *s, const int16_t *r, bool in_range)
     if (s->have_prev && s->noise_n < UINT16_MAX) s->noise_n++;
     s->have_prev = true;
     return crossed;
+}
+
+/* Add a still residual (r: resid, or raw when no model is in use) to the
+ * block; a full block is watched.  true when the CUSUM crossed. */
+static bool watch_residual(sig_learn *s, const int16_t *r)
+{
+    uint8_t a, n = s->cfg.n_axes;
+    for (a = 0u; a < n; a++)
+        s->block_sum[a] = (int16_t)(s->block_sum[a] + clamp16(r[a], SIG_LEARN_Y_MAX));  /* |sum| <= 8 * 2047 */
+    if (++s->block_n < SIG_LEARN_BLOCK) return false;
+    s->block_n = 0u;
+    return watch_block(s);
 }
 
 sig_status sig_learn_step(sig_learn *s, int16_t t, const int16_t *raw, const int16_t *resid, bool still)
@@ -163,13 +232,15 @@ sig_status sig_learn_step(sig_learn *s, int16_t t, const int16_t *raw, const int
         st |= SIG_LEARN_EXTRAPOLATED;
     }
     if (still) {
+        /* moving samples are left out of the blocks, not breaking them: a
+         * block is 8 still samples however they are spread */
         st |= learn_sample(s, t, raw);
-        if (!s->stale && watch_residual(s, s->has_model ? resid : raw, in_range)) {
+        if (!in_range) {
+            break_series(s);
+        } else if (!s->stale && watch_residual(s, s->has_model ? resid : raw)) {
             sig_learn_reset(s);
             s->stale = true;
         }
-    } else {
-        s->have_prev = false;
     }
     if (s->stale) st |= SIG_LEARN_STALE;
     return st;

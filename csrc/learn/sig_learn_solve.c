@@ -8,61 +8,46 @@
 #define FRAC_BITS 12u      /* interpolation fraction, Q12 */
 #define ERR_MAX   INT32_C(4095)
 
-/* floor(num / den) for a quotient below 2^16 (num < den * 2^16, den >= 1):
- * 16 steps of restoring long division.  Every division of the solve has
- * such a quotient, and this costs a few hundred MSP430 instructions where
- * a general 32-bit division routine costs ~1200.  The carry out of `low` is
- * taken by a compare: clang turns a test of its top bit into a 15-bit shift,
- * which the MSP430 does one bit at a time. */
-static uint16_t div_small(uint32_t num, uint32_t den)
-{
-    uint32_t rem = num >> 16;               /* < den */
-    uint16_t low = (uint16_t)(num & 0xFFFFu), q = 0u, twice;
-    uint8_t i;
-    for (i = 0u; i < 16u; i++) {
-        twice = (uint16_t)(low + low);
-        rem = rem + rem + (twice < low ? 1u : 0u);
-        low = twice;
-        q = (uint16_t)(q + q);
-        if (rem >= den) {
-            rem -= den;
-            q |= 1u;
-        }
-    }
-    return q;
-}
+#if SIG_LEARN_Y_BIAS != 2047
+#error "make_points takes the bias off as (count << 11) - count"
+#endif
 
-/* div_small for a 16-bit divisor (bin counts <= 2048): the remainder stays
- * below 2 * den <= 2^12, so it is carried in 16 bits. */
-static uint16_t div_small16(uint32_t num, uint16_t den)
+/* floor(num / den) for den < 2^15 and num < den * 2^16 (a quotient below
+ * 2^16): 16 steps of shift and subtract on num itself, whose high half is
+ * the remainder (< 2 den <= 2^16 after the shift) and whose low half fills
+ * with the quotient bits: no 32-bit compare.  ~17 MSP430 instructions a
+ * step (clang carries the low half's top bit with a shift; a compare form
+ * measured 2 % slower), where a general 32-bit division routine costs ~1200
+ * instructions. */
+static uint16_t div_q16(uint32_t num, uint16_t den)
 {
-    uint16_t rem = (uint16_t)(num >> 16), low = (uint16_t)(num & 0xFFFFu), q = 0u, twice;
     uint8_t i;
     for (i = 0u; i < 16u; i++) {
-        twice = (uint16_t)(low + low);
-        rem = (uint16_t)(rem + rem + (twice < low ? 1u : 0u));
-        low = twice;
-        q = (uint16_t)(q + q);
-        if (rem >= den) {
-            rem = (uint16_t)(rem - den);
-            q |= 1u;
-        }
+        num <<= 1;
+        if ((uint16_t)(num >> 16) >= den) num = num - ((uint32_t)den << 16) + 1u;
     }
-    return q;
+    return (uint16_t)(num & 0xFFFFu);
 }
 
 /* sign(n) * floor((|n| + d/2) / d), 1 <= d <= 2048, |n| / d < 2^15 (bin means) */
 static int32_t rdiv(int32_t n, uint16_t d)
 {
     uint32_t mag = n < 0 ? (uint32_t)0 - (uint32_t)n : (uint32_t)n;
-    int32_t q = (int32_t)div_small16(mag + (uint32_t)(d >> 1), d);
+    int32_t q = (int32_t)div_q16(mag + (uint32_t)(d >> 1), d);
     return n < 0 ? -q : q;
 }
 
-/* Q12 position of x in [a, b] (a < b, Q4 temperatures, b - a < 2^18) */
+/* Q12 position of x in [a, b] (a < b, a <= x, (x - a) < 3 (b - a), Q4
+ * temperatures, b - a < 2^18): both distances halved (floor) until b - a
+ * < 2^15, the divisor of div_q16; it then keeps >= 14 bits. */
 static int32_t frac_q12(int32_t a, int32_t b, int32_t x)
 {
-    return (int32_t)div_small((uint32_t)(x - a) * (UINT32_C(1) << FRAC_BITS), (uint32_t)(b - a));
+    uint32_t num = (uint32_t)(x - a), den = (uint32_t)(b - a);
+    while (den >= UINT32_C(0x8000)) {
+        num >>= 1;
+        den >>= 1;
+    }
+    return (int32_t)div_q16(num << FRAC_BITS, (uint16_t)den);
 }
 
 static int32_t lerp(int32_t ya, int32_t yb, int32_t f)
@@ -113,14 +98,21 @@ static uint8_t *put_u32(uint8_t *p, uint32_t v)
 static void refresh_thresholds(sig_learn *s)
 {
     uint8_t a;
-    uint32_t sigma;
+    uint32_t sigma, kv, hv;
     if (s->noise_n < SIG_LEARN_NOISE_MIN_N) return;
     for (a = 0u; a < s->cfg.n_axes; a++) {
-        /* sigma (Q4) = 16 E|r - r_prev| sqrt(pi) / 2 ~ (N / 32) * 16 * 227 / 256 */
-        sigma = ((uint32_t)s->noise[a] * 227u) >> 9;
+        /* the block mean's sigma (Q4) = 16 E|B - B_prev| sqrt(pi) / 2 / 8
+         * ~ (N / 32) * 2 * 227 / 256 */
+        sigma = ((uint32_t)s->noise[a] * 227u) >> 12;
         if (sigma < s->cfg.sigma_floor) sigma = s->cfg.sigma_floor;
-        s->k[a] = (int32_t)((sigma * s->cfg.k_sigma) >> 4);
-        s->h[a] = (int32_t)((sigma * s->cfg.h_sigma) >> 4);
+        /* limited to SIG_LEARN_CUSUM_MAX: k and h are int16 so that the
+         * per-sample CUSUM is (sig_learn.h: width) */
+        kv = (sigma * s->cfg.k_sigma) >> 4;
+        hv = (sigma * s->cfg.h_sigma) >> 4;
+        if (kv > (uint32_t)SIG_LEARN_CUSUM_MAX) kv = (uint32_t)SIG_LEARN_CUSUM_MAX;
+        if (hv > (uint32_t)SIG_LEARN_CUSUM_MAX) hv = (uint32_t)SIG_LEARN_CUSUM_MAX;
+        s->k[a] = (int16_t)kv;
+        s->h[a] = (int16_t)hv;
     }
 }
 
@@ -148,7 +140,7 @@ static void make_points(const sig_learn *s, sig_learn_points *p)
         if (c < s->cfg.min_count) continue;
         p->t[p->n] = lo + rdiv((int32_t)s->sum_dt[b] * 16, c);
         for (a = 0u; a < s->cfg.n_axes; a++)
-            p->y[p->n][a] = (int16_t)rdiv(((int32_t)s->sum_y[b][a] - (int32_t)c * SIG_LEARN_Y_BIAS) * 16, c);
+            p->y[p->n][a] = (int16_t)rdiv(((int32_t)s->sum_y[a][b] - (((int32_t)c << 11) - c)) * 16, c);
         p->bin[p->n] = b;
         p->n++;
     }
@@ -172,44 +164,66 @@ static int32_t held_out_frac(int32_t a, int32_t b, int32_t x)
  * covered bin is predicted from its two nearest covered neighbours (the end
  * bins by extrapolation from the two next to them, so a candidate that
  * reaches beyond the model's range is judged there too). */
-static uint8_t validate(const sig_learn *s, const sig_tmodel *m, sig_learn_scratch *work,
+static uint8_t validate(const sig_learn *s, const sig_learn_scratch *work,
                         uint32_t *sse_new, uint32_t *sse_stored)
 {
     const sig_learn_points *p = &work->points;
-    int32_t *ref = work->model[2];
     int32_t f;
     uint8_t i, j, l, a;
     *sse_new = 0u;
     *sse_stored = 0u;
-    for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) ref[a] = 0;   /* no model: it predicts 0 */
     for (i = 0u; i < p->n; i++) {
         j = i == 0u ? 1u : (i + 1u == p->n ? (uint8_t)(i - 2u) : (uint8_t)(i - 1u));
         l = (uint8_t)(j == i + 1u ? i + 2u : (i + 1u == p->n ? i - 1u : i + 1u));
         f = held_out_frac(p->t[j], p->t[l], p->t[i]);
-        if (m != NULL) model_q4(m, t_of_q4(s, p->t[i]), ref, s->cfg.n_axes);
         for (a = 0u; a < s->cfg.n_axes; a++) {
             *sse_new += sq_err(p->y[i][a] - lerp(p->y[j][a], p->y[l][a], f));
-            *sse_stored += sq_err(p->y[i][a] - ref[a]);
+            *sse_stored += sq_err(p->y[i][a] - work->at_point[i][a]);
         }
     }
     return p->n;
 }
 
+/* The model's values (Q4) at the points (0 without a model), and into
+ * work->knots at the knots k_lo.. beyond the points (the stored shape the
+ * table carries on there).  Evaluated here, in a small stack frame, not in
+ * validate or knot_values: the 8051's 256-byte stack does not hold the
+ * model's call chain below their frames. */
+static void model_at_points(const sig_learn *s, const sig_tmodel *m, sig_learn_scratch *work)
+{
+    uint8_t i, a;
+    for (i = 0u; i < work->points.n; i++) {
+        if (m != NULL) {
+            model_q4(m, t_of_q4(s, work->points.t[i]), work->at_point[i], s->cfg.n_axes);
+        } else {
+            for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) work->at_point[i][a] = 0;
+        }
+    }
+}
+
+static void model_at_knots(const sig_learn *s, const sig_tmodel *m, sig_learn_scratch *work,
+                           uint8_t k_lo, uint8_t k_hi)
+{
+    const sig_learn_points *p = &work->points;
+    int32_t w = (int32_t)s->bin_mask + 1, c = (int32_t)k_lo * w + (w >> 1);
+    uint8_t i;
+    for (i = 0u; i <= (uint8_t)(k_hi - k_lo); i++, c += w) {
+        if (c * 16 >= p->t[0] && c * 16 <= p->t[p->n - 1u]) continue;
+        model_q4(m, (int16_t)(s->cfg.t_base + c), work->knots[i], s->cfg.n_axes);
+    }
+}
+
 /* Knot values per axis (Q4) into work->knots for knots k_lo..k_hi, W
  * apart: see "table" in sig_learn.h.  The points are walked left to right
- * as the knots advance; the model's values at the two end points are read
- * once.  Model values go through work->model (the 8051's stack is small). */
-static void knot_values(const sig_learn *s, const sig_tmodel *m, sig_learn_scratch *work,
+ * as the knots advance.  Beyond the points work->knots holds the model's
+ * values there (model_at_knots) when a model is in use. */
+static void knot_values(const sig_learn *s, bool has_model, sig_learn_scratch *work,
                         uint8_t k_lo, uint8_t k_hi)
 {
     const sig_learn_points *p = &work->points;
     int32_t w = (int32_t)s->bin_mask + 1, c = (int32_t)k_lo * w + (w >> 1), cq, f;
     int32_t (*v)[SIG_LEARN_MAX_AXES] = work->knots;
     uint8_t a, e, i, j = 0u, n = s->cfg.n_axes, last = (uint8_t)(p->n - 1u);
-    if (m != NULL) {
-        model_q4(m, t_of_q4(s, p->t[0]), work->model[0], n);
-        model_q4(m, t_of_q4(s, p->t[last]), work->model[1], n);
-    }
     for (i = 0u; i <= (uint8_t)(k_hi - k_lo); i++, c += w) {
         cq = c * 16;
         if (cq >= p->t[0] && cq <= p->t[last]) {
@@ -219,10 +233,8 @@ static void knot_values(const sig_learn *s, const sig_tmodel *m, sig_learn_scrat
             continue;
         }
         e = cq < p->t[0] ? 0u : last;
-        for (a = 0u; a < n; a++) v[i][a] = p->y[e][a];
-        if (m == NULL) continue;
-        model_q4(m, (int16_t)(s->cfg.t_base + c), work->model[2], n);
-        for (a = 0u; a < n; a++) v[i][a] += work->model[2][a] - work->model[e == 0u ? 0 : 1][a];
+        for (a = 0u; a < n; a++)
+            v[i][a] = has_model ? p->y[e][a] + v[i][a] - work->at_point[e][a] : p->y[e][a];
     }
 }
 
@@ -299,6 +311,7 @@ sig_status sig_learn_solve(sig_learn *s, const sig_tmodel *model, uint32_t live_
     if (image_cap < SIG_LEARN_IMAGE_MAX || s->has_model != (model != NULL)) return SIG_ERR_ARG;
     if (model != NULL && model->n_axes != s->cfg.n_axes) return SIG_ERR_ARG;
     refresh_thresholds(s);
+    sig_learn_flush(s);
     report->sse_new = 0u;
     report->sse_stored = 0u;
     report->covered = 0u;
@@ -316,7 +329,8 @@ sig_status sig_learn_solve(sig_learn *s, const sig_tmodel *model, uint32_t live_
         report->outcome = SIG_LEARN_WAIT_COVERAGE;
         return SIG_OK;
     }
-    report->validated = validate(s, model, work, &report->sse_new, &report->sse_stored);
+    model_at_points(s, model, work);
+    report->validated = validate(s, work, &report->sse_new, &report->sse_stored);
     if (report->sse_stored == 0u ||
         report->sse_new > report->sse_stored - (report->sse_stored >> s->cfg.margin_shift)) {
         report->outcome = SIG_LEARN_NOT_BETTER;
@@ -328,7 +342,8 @@ sig_status sig_learn_solve(sig_learn *s, const sig_tmodel *model, uint32_t live_
         if (m_lo < k_lo) k_lo = m_lo;
         if (m_hi > k_hi) k_hi = m_hi;
     }
-    knot_values(s, model, work, k_lo, k_hi);     /* not nested in write_image: stack depth */
+    if (model != NULL) model_at_knots(s, model, work, k_lo, k_hi);
+    knot_values(s, model != NULL, work, k_lo, k_hi);     /* not nested in write_image: stack depth */
     *image_len = write_image(s, work, k_lo, k_hi, live_seq + 1u, image);
     s->committed = true;
     s->last_commit = s->steps;

@@ -32,11 +32,12 @@ cdef extern from "sig_learn.h":
         uint8_t bin_shift, n_bins, min_bins, margin_shift, n_axes, code_kind
     ctypedef struct sig_learn:
         sig_learn_config cfg
-        uint32_t sum_y[16][3]
+        uint32_t sum_y[3][16]
         uint32_t sum_dt[16]
         uint16_t count[16]
-        int32_t k[3]
-        int32_t h[3]
+        uint8_t acc_bin, acc_n
+        int16_t k[3]
+        int16_t h[3]
         uint16_t noise[3]
         uint32_t steps
         int16_t model_lo, model_hi
@@ -155,8 +156,10 @@ cdef class DeviceLearner:
         return self.live_seq if self.has_model else 0
 
     def counts(self):
-        """Samples per bin (numpy uint16)."""
-        return np.array([self.s.count[i] for i in range(self.s.cfg.n_bins)], dtype=np.uint16)
+        """Samples per bin (numpy uint16), the pending ones included."""
+        out = np.array([self.s.count[i] for i in range(self.s.cfg.n_bins)], dtype=np.uint16)
+        out[self.s.acc_bin] += self.s.acc_n
+        return out
 
     def replay(self, codes, raw, still, uint32_t solve_every):
         """The device loop over a log: per sample apply the model in use

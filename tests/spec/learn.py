@@ -2,12 +2,19 @@
 sig_learn_solve.c, one sample at a time, in plain Python integers.
 
     step     still samples inside the bins (t_base, 2^bin_shift, n_bins) and
-             within +-2047 add to count, sum_dt, sum_y of their bin; a bin at
-             2048 samples is halved (floor).  The residual (model output, or
-             raw with no model) feeds noise += min(|r - r_prev|, 2047) - (noise >> 5)
-             and, with a model in range and armed thresholds, the two-sided
-             CUSUM on 16 r; a crossing clears the bins and sets stale.
-    solve    thresholds from noise (sigma = max(floor, noise*227 >> 9));
+             within +-2047 add to the pending sums of their bin (y + 2047),
+             which go into count, sum_dt, sum_y of the bin when the bin
+             changes, after 16 samples and at a solve; a bin reaching 2048
+             samples there is halved (floor).  The residual (model output, or
+             raw with no model), clamped to +-2047, is summed over blocks of
+             8 still samples in the model's range (moving samples are left
+             out; an out-of-range still one drops the block and breaks the
+             series); per block B:
+             noise += min(|B - B_prev|, 2047) - (noise >> 5) and, with a
+             model and armed thresholds, the two-sided CUSUM on 2 B, B
+             clamped to +-4088; a crossing clears the bins and sets stale.
+    solve    thresholds from noise (sigma = max(floor, noise*227 >> 12);
+             k, h at most 16383);
              period; points (Q4 means) of covered bins; leave-one-bin-out
              SSE of the candidate and of the model in use; commit when
              sse_new <= sse_stored - (sse_stored >> margin_shift) and
@@ -16,6 +23,8 @@ sig_learn_solve.c, one sample at a time, in plain Python integers.
 from . import image, tmodel
 
 COUNT_MAX, Y_MAX, NOISE_MIN_N, ERR_MAX = 2048, 2047, 32, 4095
+Y_BIAS, ACC_MAX = 2047, 16     # the sums are of y + 2047; pending samples of one bin at most
+BLOCK, CUSUM_X_MAX, CUSUM_MAX = 8, 4088, 16383   # block length, its sum's clamp, k and h limit (Q4)
 STALE, SKIPPED, EXTRAPOLATED, COMMITTED = 512, 1024, 2048, 4096
 COMMIT, WAIT_PERIOD, WAIT_COVERAGE, NOT_BETTER = 0, 1, 2, 3
 SECTION_PWL_TABLE, SECTION_TEMP_CODE = 6, 10
@@ -31,7 +40,10 @@ def _rdiv(n, d):
 
 
 def _frac(a, b, x):
-    return ((x - a) << 12) // (b - a)
+    n, d = x - a, b - a
+    while d >= 0x8000:      # the C divides by a divisor below 2^15
+        n, d = n >> 1, d >> 1
+    return (n << 12) // d
 
 
 def _lerp(ya, yb, f):
@@ -63,7 +75,8 @@ class Learner:
         self.k, self.h, self.noise, self.prev = [0] * n, [0] * n, [0] * n, [0] * n
         self.steps = self.last_commit = self.noise_n = 0
         self.model, self.model_lo, self.model_hi = None, 0, 0
-        self.committed = self.have_prev = False
+        self.committed = False
+        self._break()
         self.reset()
 
     def reset(self):
@@ -72,6 +85,7 @@ class Learner:
         self.sum_dt = [0] * c["n_bins"]
         self.sum_y = [[0] * c["n_axes"] for _ in range(c["n_bins"])]
         self.pos, self.neg = [0] * c["n_axes"], [0] * c["n_axes"]
+        self.acc_y, self.acc_dt, self.acc_n, self.acc_bin = [0] * c["n_axes"], 0, 0, 0
         self.stale = False
 
     def use_model(self, model):
@@ -80,7 +94,22 @@ class Learner:
         if model is not None:
             self.model_lo, self.model_hi = model_range(model)
         self.pos, self.neg = [0] * self.cfg["n_axes"], [0] * self.cfg["n_axes"]
-        self.stale = self.have_prev = False
+        self.stale = False
+        self._break()
+
+    def flush(self):
+        """sig_learn_flush: the pending samples into their bin's sums."""
+        b, n = self.acc_bin, self.acc_n
+        if n == 0:
+            return
+        self.sum_dt[b] += self.acc_dt
+        self.sum_y[b] = [s + y for s, y in zip(self.sum_y[b], self.acc_y)]
+        self.count[b] += n
+        self.acc_y, self.acc_dt, self.acc_n = [0] * len(self.acc_y), 0, 0
+        if self.count[b] >= COUNT_MAX:
+            self.count[b] >>= 1
+            self.sum_dt[b] >>= 1
+            self.sum_y[b] = [s >> 1 for s in self.sum_y[b]]
 
     def _learn(self, t, raw):
         c = self.cfg
@@ -88,32 +117,46 @@ class Learner:
         if d < 0 or d >= c["n_bins"] << c["bin_shift"] or any(abs(y) > Y_MAX for y in raw):
             return SKIPPED
         b = d >> c["bin_shift"]
-        self.sum_dt[b] += d & ((1 << c["bin_shift"]) - 1)
-        self.sum_y[b] = [s + y for s, y in zip(self.sum_y[b], raw)]
-        self.count[b] += 1
-        if self.count[b] >= COUNT_MAX:
-            self.count[b] = COUNT_MAX // 2
-            self.sum_dt[b] >>= 1
-            self.sum_y[b] = [s >> 1 for s in self.sum_y[b]]
+        if self.acc_n == 0 or b != self.acc_bin:
+            self.flush()
+            self.acc_bin = b
+        self.acc_dt += d & ((1 << c["bin_shift"]) - 1)
+        self.acc_y = [s + y + Y_BIAS for s, y in zip(self.acc_y, raw)]
+        self.acc_n += 1
+        if self.acc_n >= ACC_MAX:
+            self.flush()
         return 0
 
-    def _watch(self, r, in_range):
+    def _break(self):
+        n = self.cfg["n_axes"]
+        self.block, self.block_n, self.have_prev = [0] * n, 0, False
+
+    def _watch_block(self):
         crossed = False
-        for a, ra in enumerate(r):
-            x = _clamp(ra, -Y_MAX, Y_MAX)
+        for a, x in enumerate(self.block):
             if self.have_prev:
                 self.noise[a] += min(abs(x - self.prev[a]), Y_MAX) - (self.noise[a] >> 5)
             self.prev[a] = x
-            if self.model is None or not in_range or self.h[a] == 0:
+            if self.model is None or self.h[a] == 0:
                 continue
-            pos = self.pos[a] + 16 * x - self.k[a]
-            neg = self.neg[a] - 16 * x - self.k[a]
+            xc = 2 * _clamp(x, -CUSUM_X_MAX, CUSUM_X_MAX)
+            pos = self.pos[a] + xc - self.k[a]
+            neg = self.neg[a] - xc - self.k[a]
             self.pos[a], self.neg[a] = max(pos, 0), max(neg, 0)
             crossed |= pos > self.h[a] or neg > self.h[a]
+        self.block = [0] * len(self.block)
         if self.have_prev:
             self.noise_n = min(self.noise_n + 1, 65535)
         self.have_prev = True
         return crossed
+
+    def _watch(self, r):
+        self.block = [b + _clamp(x, -Y_MAX, Y_MAX) for b, x in zip(self.block, r)]
+        self.block_n += 1
+        if self.block_n < BLOCK:
+            return False
+        self.block_n = 0
+        return self._watch_block()
 
     def step(self, t, raw, resid, still):
         """Status of sig_learn_step (resid: the model's outputs, or None)."""
@@ -123,18 +166,18 @@ class Learner:
             st, in_range = EXTRAPOLATED, False
         if still:
             st |= self._learn(t, raw)
-            if not self.stale and self._watch(resid if self.model is not None else raw, in_range):
+            if not in_range:
+                self._break()
+            elif not self.stale and self._watch(resid if self.model is not None else raw):
                 self.reset()
                 self.stale = True
-        else:
-            self.have_prev = False
         return st | (STALE if self.stale else 0)
 
     # ---- solve ----------------------------------------------------------
     def _points(self):
         c = self.cfg
         return [(b, (b << (c["bin_shift"] + 4)) + _rdiv(self.sum_dt[b] * 16, n),
-                 [_rdiv(s * 16, n) for s in self.sum_y[b]])
+                 [_rdiv((s - Y_BIAS * n) * 16, n) for s in self.sum_y[b]])
                 for b, n in enumerate(self.count) if n >= c["min_count"]]
 
     def _t(self, tq):
@@ -200,9 +243,10 @@ class Learner:
         c = self.cfg
         if self.noise_n >= NOISE_MIN_N:
             for a in range(c["n_axes"]):
-                sigma = max(c["sigma_floor"], (self.noise[a] * 227) >> 9)
-                self.k[a] = (sigma * c["k_sigma"]) >> 4
-                self.h[a] = (sigma * c["h_sigma"]) >> 4
+                sigma = max(c["sigma_floor"], (self.noise[a] * 227) >> 12)
+                self.k[a] = min((sigma * c["k_sigma"]) >> 4, CUSUM_MAX)
+                self.h[a] = min((sigma * c["h_sigma"]) >> 4, CUSUM_MAX)
+        self.flush()
         rep = dict(sse_new=0, sse_stored=0, covered=0, validated=0, n_knots=0, t_lo=0, t_hi=0)
         if self.committed and ((self.steps - self.last_commit) & 0xFFFFFFFF) < c["period"]:
             return 0, None, dict(rep, outcome=WAIT_PERIOD)
