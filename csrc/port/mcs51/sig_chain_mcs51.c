@@ -510,6 +510,80 @@ static sig_status step_general(int32_t x)
     return ret;
 }
 
+/* The steady state's limit, window and trimmed mean, shared by the fixed
+ * step and the default chain's (sig_chain_mcs51_step, step_auto): on x
+ * (codes), in the caller's locals t, y, dd, old, mx, mn, i, v, m, m7, innov,
+ * a (|innovation|); `general` is the caller's step for any other case,
+ * taken before anything has changed.  A macro: the 8051 pays for a call
+ * and its arguments more than for the text. */
+#define STEADY_MEAN(x, general) do {                                                        \
+        if ((x) > SIG_CODE_MAX || (x) < -SIG_CODE_MAX) return general(x);   /* clamped */    \
+        t = (x) - S.base;                                                                   \
+        if (t < -DEV_MAX || t > DEV_MAX) return general(x);                                 \
+        y = (int16_t)t;                                                                     \
+        dd = (int16_t)(y - S.dc);                                                           \
+        if (dd > S.a0 || dd < -S.a0) return general(x);                                     \
+        old = WIN[S.head];                                                                  \
+        mx = S.mx;                                                                          \
+        mn = S.mn;                                                                          \
+        if (old == mx || old == mn) {                                                       \
+            /* an extreme leaves the window: the extremes of the window with y in          \
+             * old's slot (the portable stage rescans the same values) */                  \
+            mx = mn = y;                                                                    \
+            for (i = 0u; i < S.n; i++) {                                                    \
+                if (i == S.head) continue;                                                  \
+                v = WIN[i];                                                                 \
+                if (v > mx) mx = v;                                                         \
+                if (v < mn) mn = v;                                                         \
+            }                                                                               \
+        } else {                                                                            \
+            if (y > mx) mx = y;                                                             \
+            if (y < mn) mn = y;                                                             \
+        }                                                                                   \
+        t = S.sum + (y - old);                /* int16 difference: both within +-DEV_MAX */ \
+        t = t - mx - mn + S.half;                                                           \
+        if (t >= 0) {                                                                       \
+            if (t > (int32_t)S.u_lim) return general(x);                                    \
+            mul_a = (uint16_t)t;                                                            \
+            mul_b = S.recip; mul16();                                                       \
+            m = (int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));      \
+        } else {                                                                            \
+            t = -t + (int32_t)(S.n - 3u);     /* floor(t / d) = -floor((-t + d - 1) / d) */ \
+            if (t > (int32_t)S.u_lim) return general(x);                                    \
+            mul_a = (uint16_t)t;                                                            \
+            mul_b = S.recip; mul16();                                                       \
+            m = (int16_t)-(int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u)); \
+        }                                                                                   \
+        m7 = S.base7 + (int32_t)m * 128;     /* sdcc: shifts, no 32x32 product */           \
+        innov = m7 - S.x;                     /* |m7|, |x| < 2^30 (S.small): exact */       \
+        if (innov <= -32768 || innov >= 32768) return general(x);                           \
+        a = (uint16_t)(innov < 0 ? -innov : innov);                                         \
+    } while (0)
+
+/* Then, once the step is sure: the limit (accepted: run cleared), the
+ * window, the motion run, Dc; the Kalman update x += K innov with the gain
+ * of this step from the table (|innov| K / 2^30 rounded half up, two 16x16
+ * products; locals u, inc). */
+#define STEADY_COMMIT() do {                                                                \
+        S.lock_run = 0u;                                                                    \
+        S.lock_side = 0;                                                                    \
+        WIN[S.head] = y;                                                                    \
+        if (++S.head >= S.n) S.head = 0u;                                                   \
+        S.mx = mx;                                                                          \
+        S.mn = mn;                                                                          \
+        S.sum += y - old;                                                                   \
+        S.motion_run = motion_run;                                                          \
+        S.dc = m;                                                                           \
+        if (S.gain_i < CFG.gain_n) S.k = CFG.gains[S.gain_i++];                             \
+        mul_a = a;                                                                          \
+        mul_b = (uint16_t)S.k; mul16();                                                     \
+        u = (uint16_t)((mul_r + Q30_HALF) >> 16);                                           \
+        mul_b = (uint16_t)(S.k >> 16); mul16();                                             \
+        inc = (int16_t)((mul_r + u) >> 14);    /* <= |innov| < 2^15 */                      \
+        if (innov < 0) inc = (int16_t)-inc;                                                 \
+        S.x += inc;                           /* between x and m7: |x| stays < 2^30 */      \
+    } while (0)
+
 /* One sample.  The common case runs here, in int16 where the values
  * allow: window full, the sample accepted and within the deviation range
  * (an evicted extreme costs a rescan of the window), the trimmed sum within
@@ -526,72 +600,14 @@ sig_status sig_chain_mcs51_step(int32_t x)
     if (S.noise_auto) return step_auto(x);
 #endif
     if (S.count != S.n || !S.kf_seeded || !S.small) return step_general(x);
-    if (x > SIG_CODE_MAX || x < -SIG_CODE_MAX) return step_general(x);   /* clamped: the general step */
-    t = x - S.base;
-    if (t < -DEV_MAX || t > DEV_MAX) return step_general(x);
-    y = (int16_t)t;
-    dd = (int16_t)(y - S.dc);
-    if (dd > S.a0 || dd < -S.a0) return step_general(x);
-    old = WIN[S.head];
-    mx = S.mx;
-    mn = S.mn;
-    if (old == mx || old == mn) {
-        /* an extreme leaves the window: the extremes of the window with y in
-         * old's slot (the portable stage rescans the same values) */
-        mx = mn = y;
-        for (i = 0u; i < S.n; i++) {
-            if (i == S.head) continue;
-            v = WIN[i];
-            if (v > mx) mx = v;
-            if (v < mn) mn = v;
-        }
-    } else {
-        if (y > mx) mx = y;
-        if (y < mn) mn = y;
-    }
-    t = S.sum + (y - old);                /* int16 difference: both within +-DEV_MAX */
-    t = t - mx - mn + S.half;
-    if (t >= 0) {
-        if (t > (int32_t)S.u_lim) return step_general(x);
-        mul_a = (uint16_t)t;
-        mul_b = S.recip; mul16();
-        m = (int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));
-    } else {
-        t = -t + (int32_t)(S.n - 3u);     /* floor(t / d) = -floor((-t + d - 1) / d) */
-        if (t > (int32_t)S.u_lim) return step_general(x);
-        mul_a = (uint16_t)t;
-        mul_b = S.recip; mul16();
-        m = (int16_t)-(int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));
-    }
-    m7 = S.base7 + (int32_t)m * 128;     /* sdcc: shifts, no 32x32 product */
-    innov = m7 - S.x;                     /* |m7|, |x| < 2^30 (S.small): exact */
-    if (innov <= -32768 || innov >= 32768) return step_general(x);
-    a = (uint16_t)(innov < 0 ? -innov : innov);
+    STEADY_MEAN(x, step_general);
     if (S.motion_band > 0) {
         if ((int16_t)a > S.motion_band16) {
             motion_run = (uint8_t)(S.motion_run + 1u);
             if (motion_run >= S.motion_count) return step_general(x);
         }
     }
-    /* commit: limit, window */
-    S.lock_run = 0u;
-    S.lock_side = 0;
-    WIN[S.head] = y;
-    if (++S.head >= S.n) S.head = 0u;
-    S.mx = mx;
-    S.mn = mn;
-    S.sum += y - old;
-    S.motion_run = motion_run;
-    S.dc = m;
-    /* Kalman: |innov| K / 2^30 rounded half up, two 16x16 products */
-    if (S.gain_i < CFG.gain_n) S.k = CFG.gains[S.gain_i++];
-    mul_a = a;
-    mul_b = (uint16_t)S.k; mul16();
-    u = (uint16_t)((mul_r + Q30_HALF) >> 16);
-    mul_b = (uint16_t)(S.k >> 16); mul16();
-    inc = (int16_t)((mul_r + u) >> 14);    /* <= |innov| < 2^15 */
-    if (innov < 0) inc = (int16_t)-inc;
-    S.x += inc;                           /* between x and m7: |x| stays < 2^30 */
+    STEADY_COMMIT();
     /* stability */
     if ((inc < 0 ? -inc : inc) <= S.stable_step16) {
         if (S.stable_run < 255u) S.stable_run++;
@@ -762,69 +778,12 @@ static sig_status step_auto(int32_t x)
     bool stab, update;
     sig_status ret = SIG_OK;
     if (!S.hot || !S.small || !A.settled) return step_portable(x);
-    if (x > SIG_CODE_MAX || x < -SIG_CODE_MAX) return step_portable(x);
-    t = x - S.base;
-    if (t < -DEV_MAX || t > DEV_MAX) return step_portable(x);
-    y = (int16_t)t;
-    dd = (int16_t)(y - S.dc);
-    if (dd > S.a0 || dd < -S.a0) return step_portable(x);
-    old = WIN[S.head];
-    mx = S.mx;
-    mn = S.mn;
-    if (old == mx || old == mn) {
-        mx = mn = y;
-        for (i = 0u; i < S.n; i++) {
-            if (i == S.head) continue;
-            v = WIN[i];
-            if (v > mx) mx = v;
-            if (v < mn) mn = v;
-        }
-    } else {
-        if (y > mx) mx = y;
-        if (y < mn) mn = y;
-    }
-    t = S.sum + (y - old);
-    t = t - mx - mn + S.half;
-    if (t >= 0) {
-        if (t > (int32_t)S.u_lim) return step_portable(x);
-        mul_a = (uint16_t)t;
-        mul_b = S.recip; mul16();
-        m = (int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));
-    } else {
-        t = -t + (int32_t)(S.n - 3u);
-        if (t > (int32_t)S.u_lim) return step_portable(x);
-        mul_a = (uint16_t)t;
-        mul_b = S.recip; mul16();
-        m = (int16_t)-(int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));
-    }
-    m7 = S.base7 + (int32_t)m * 128;
-    innov = m7 - S.x;
-    if (innov <= -32768 || innov >= 32768) return step_portable(x);
-    a = (uint16_t)(innov < 0 ? -innov : innov);
+    STEADY_MEAN(x, step_portable);
     motion_run = S.motion_run;            /* a restart is the portable step's */
     if (sig_chain_motion((int16_t)a > S.motion_band16, &motion_run, S.motion_count))
         return step_portable(x);
-    /* commit: limit (accepted: Dc the sample, run cleared; the ramp
-     * follower's last sample), window */
-    S.lock_run = 0u;
-    S.lock_side = 0;
-    A.prev_x = x;
-    WIN[S.head] = y;
-    if (++S.head >= S.n) S.head = 0u;
-    S.mx = mx;
-    S.mn = mn;
-    S.sum += y - old;
-    S.motion_run = motion_run;
-    S.dc = m;
-    /* Kalman */
-    if (S.gain_i < CFG.gain_n) S.k = CFG.gains[S.gain_i++];
-    mul_a = a;
-    mul_b = (uint16_t)S.k; mul16();
-    u = (uint16_t)((mul_r + Q30_HALF) >> 16);
-    mul_b = (uint16_t)(S.k >> 16); mul16();
-    inc = (int16_t)((mul_r + u) >> 14);
-    if (innov < 0) inc = (int16_t)-inc;
-    S.x += inc;
+    STEADY_COMMIT();
+    A.prev_x = x;                         /* the ramp follower's last sample */
     xk = S.x;
     /* the stability detector, its verdict backed by the samples */
     S.stable_run = SIG_RUN_NEXT(S.stable_run, (inc < 0 ? -inc : inc) <= S.stable_step16);
