@@ -195,6 +195,7 @@ typedef struct {
     int32_t pred;           /* codes */
     int32_t near_band;      /* Q24.7 */
     int32_t trend_up, trend_dn;    /* Q24.7 */
+    bool trending;          /* this sample's trend verdict */
     bool ramp, missed, paused, followed, settled;
     int32_t anchor;         /* Q24.7 */
     uint8_t drift_age;

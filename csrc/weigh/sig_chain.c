@@ -408,6 +408,7 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->settled = false;
     c->anchor = 0;
     c->trend_up = c->trend_dn = 0;
+    c->trending = false;
     c->drift_age = 0u;
     c->drifting = true;
     (void)sig_noise_reset_q(&c->noise);
@@ -418,8 +419,8 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
 sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *stable)
 {
     sig_status ret = SIG_OK;
-    int32_t y, y7, m, m7, xk;
-    bool stab, ramp_ended, trending;
+    int32_t y, m, m7, xk;
+    bool stab, ramp_ended;
     if (!c || !out_q7 || !stable) return SIG_ERR_ARG;
     if (x > SIG_CODE_MAX) { x = SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
     else if (x < -SIG_CODE_MAX) { x = -SIG_CODE_MAX; ret = SIG_WARN_CLAMPED; }
@@ -460,13 +461,14 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
         if (c->ap.count == c->ap.n) c->drifting = sig_abs32_sat(sig_sat_sub32(xk, c->anchor)) > c->noise.sigma;
         c->anchor = xk;
     }
-    y7 = codes_to_q7(y);
-    trending = c->noise_auto
-               && sig_chain_trend_q(c->ap.count < c->ap.n, sig_sat_sub32(y7, xk), c->noise.sigma,
-                                    &c->trend_up, &c->trend_dn);
+    /* the verdict in the state, not in a local: the 8051's stack holds
+     * this frame on the chain's deepest call path */
+    c->trending = c->noise_auto
+                  && sig_chain_trend_q(c->ap.count < c->ap.n, sig_sat_sub32(codes_to_q7(y), xk), c->noise.sigma,
+                                       &c->trend_up, &c->trend_dn);
     if (c->noise_auto && stab)
-        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, trending,
-                                sig_abs32_sat(sig_sat_sub32(y7, xk)) <= c->near_band
+        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, c->trending,
+                                sig_abs32_sat(sig_sat_sub32(codes_to_q7(y), xk)) <= c->near_band
                                 && sig_abs32_sat(sig_sat_sub32(m7, xk)) <= c->noise.sigma);
     if (stab && sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
         ret = (sig_status)(ret | SIG_CHAIN_TARED);
