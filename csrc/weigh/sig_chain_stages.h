@@ -129,11 +129,16 @@ SIG_CHAIN_STAGE bool sig_chain_trend_f(bool refilling, sig_real r, sig_real sigm
         *up = *dn = SIG_REAL(0.0);
         return false;
     }
+    /* in locals, each clamp a max and one test of the larger sum: the
+     * residual's sign is random, a branch on it would be mispredicted half
+     * the time (the batch path runs this on every sample) */
     u = *up + r - sigma;
     d = *dn - r - sigma;
-    *up = u > SIG_REAL(0.0) ? u : SIG_REAL(0.0);
-    *dn = d > SIG_REAL(0.0) ? d : SIG_REAL(0.0);
-    return *up > sigma + sigma || *dn > sigma + sigma;
+    u = (u + (u < SIG_REAL(0.0) ? -u : u)) * SIG_REAL(0.5);   /* max(u, 0) without a branch */
+    d = (d + (d < SIG_REAL(0.0) ? -d : d)) * SIG_REAL(0.5);
+    *up = u;
+    *dn = d;
+    return (u > d ? u : d) > sigma + sigma;
 }
 #endif /* SIG_NO_FLOAT */
 
