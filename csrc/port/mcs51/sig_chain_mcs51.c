@@ -793,8 +793,11 @@ static sig_status step_auto(int32_t x)
         A.drifting = sig_abs32_sat(sig_sat_sub32(xk, A.anchor)) > A.noise.sigma;
         A.anchor = xk;
     }
+    /* the trend test runs on every sample (the window is full here) */
+    A.trending = sig_chain_trend_q(false, sig_sat_sub32(S.base7 + (int32_t)y * 128, xk), A.noise.sigma,
+                                   &A.trend_up, &A.trend_dn);
     if (stab)
-        stab = sig_chain_backed(ret, S.count, S.n, motion_run, A.drifting,
+        stab = sig_chain_backed(ret, S.count, S.n, motion_run, A.drifting, A.trending,
                                 sig_abs32_sat(S.base7 + (int32_t)y * 128 - xk) <= A.near_band
                                 && sig_abs32_sat(m7 - xk) <= A.noise.sigma);
     if (stab && sig_chain_offset_q(xk, &S.offset, &S.tare_pending, A.zero_band, A.zero_rate))
