@@ -28,48 +28,50 @@
  *   pending      successive samples of one bin are summed in 16 bits
  *                (acc_y <= 16 * 4094 < 2^16, acc_dt < 16 * 2^10) and moved
  *                into the bin's 32-bit sums (sig_learn_flush) when the
- *                sample's bin differs, after 16 samples, and by the solve:
- *                temperature moves slowly, so most samples cost 16-bit adds
- *                and one range compare instead of the bin search and 32-bit
- *                adds.
- *   width        after a flush count < SIG_LEARN_COUNT_MAX + 16 = 2064:
- *                sum_y <= 2064 * 4094 < 2^23, sum_dt < 2064 * 2^10 < 2^21,
- *                and the signed sum and sum_dt times 16 (the Q4 means of the
- *                solve) stay below 2^27.  When a flush takes a bin to 2048
- *                samples or more, its count and sums are halved (floor):
- *                old samples fade, the sums never overflow, heating and
- *                cooling samples are summed alike.
+ *                sample's bin differs, after 16 samples, when the bin
+ *                reaches 2048 samples, and by the solve: temperature moves
+ *                slowly, so most samples cost 16-bit adds and one range
+ *                compare instead of the bin search and 32-bit adds.
+ *   width        count <= SIG_LEARN_COUNT_MAX = 2048: sum_y <= 2^11 * 4094
+ *                < 2^23, sum_dt < 2^11 * 2^10 = 2^21, and the signed sum and
+ *                sum_dt times 16 (the Q4 means of the solve) stay below
+ *                2^27.  When a flush takes a bin to exactly 2048 samples
+ *                (the pending sums stop there), its count and sums are
+ *                halved (floor; 2047 * 2048 is even, so the bias the solve
+ *                takes off stays exact: an odd count would leave half a
+ *                bias, ~1 LSB of mean, in the halved sums): old samples
+ *                fade, the sums never overflow, heating and cooling
+ *                samples are summed alike.
  *   still residual  r = the stored model's output for the still sample
  *                (the caller computes it anyway: sig_tmodel_apply), in LSB,
  *                clamped to +-2047; the raw reading when no model is in use.
  *   blocks       the residuals of SIG_LEARN_BLOCK = 8 still samples
  *                (within the model's range) are summed (int16,
- *                |B| <= 8 * 2047); the noise estimate and the CUSUM run once
- *                per full block, a per-sample add in between (the MSP430
- *                cost goal: the test's ~150 instructions spread over 8
- *                samples).  Moving samples are left out (a block is 8
- *                still samples however spread); a still sample beyond the
- *                model's range or a new model drops the partial block and
- *                breaks the series of pairs.
+ *                |B| <= 8 * 2047); the noise estimate runs once per full
+ *                block, a per-sample add in between (the MSP430 cost goal).
+ *                Moving samples are left out (a block is 8 still samples
+ *                however spread); a still sample beyond the model's range
+ *                or a new model drops the partial block and breaks the
+ *                series of pairs.
  *   noise        per axis N += d - (N >> 5), uint16, over successive block
  *                sums, d = min(|B - B_prev|, 2047): N / 32 is an EWMA over
  *                32 blocks of d, kept x32 so that the floor of the update
  *                does not bias it (N <= 32 * 2047 < 2^16); for white noise
- *                E|B - B_prev| = 2 sigma_B / sqrt(pi) ~ 1.13 sigma_B and the
- *                block mean's sigma is sigma_B / 8.
- *   CUSUM        per axis, two-sided, int16, on the Q4 block mean x = 2 B
- *                with B clamped to +-SIG_LEARN_CUSUM_X_MAX (4088, a mean of
- *                511 LSB: |x| <= 8176):
+ *                E|B - B_prev| = 2 sigma_B / sqrt(pi) ~ 1.13 sigma_B and one
+ *                sample's sigma is sigma_B / sqrt(8).
+ *   CUSUM        per axis, two-sided, int16, per still sample in the
+ *                model's range, on x = 16 r with r clamped to
+ *                +-SIG_LEARN_CUSUM_X_MAX (511 LSB: |x| <= 8176):
  *                  S+ = max(0, S+ + x - k),  S- = max(0, S- - x - k)
  *                stale when S+ > h or S- > h.  k = k_sigma * sigma and
  *                h = h_sigma * sigma (k_sigma, h_sigma in Q4), both limited
- *                to SIG_LEARN_CUSUM_MAX (16383), sigma (the block mean's,
- *                Q4) = max(sigma_floor, N * 227 / 2^12), refreshed by every
+ *                to SIG_LEARN_CUSUM_MAX (16383), sigma (one sample's, Q4)
+ *                = max(sigma_floor, N * 642 / 2^12), refreshed by every
  *                sig_learn_solve (no multiply per sample); the test runs once
  *                a solve has set them after >= 32 block pairs.  Width: S
- *                <= h before a block, so |S + x - k| <= 16383 + 8176 <
+ *                <= h before a sample, so |S + x - k| <= 16383 + 8176 <
  *                2^15; a crossing ends the test until a model is put in use
- *                (a mean beyond 511 LSB counts as one of 511).
+ *                (a residual beyond 511 LSB counts as one of 511).
  *                Skipped (SIG_LEARN_EXTRAPOLATED) outside the stored model's
  *                range: there its correction is extrapolated, not learned.
  *   On stale     SIG_LEARN_STALE is returned by every step until a new model
@@ -134,8 +136,8 @@
 #define SIG_LEARN_Y_MAX      2047
 #define SIG_LEARN_Y_BIAS     2047
 #define SIG_LEARN_ACC_MAX    16u   /* pending samples of one bin before they go into its sums */
-#define SIG_LEARN_BLOCK      8u    /* still samples per block of the noise estimate and the CUSUM */
-#define SIG_LEARN_CUSUM_X_MAX 4088  /* |block sum| the CUSUM adds (8 x 511 LSB) */
+#define SIG_LEARN_BLOCK      8u    /* still samples per block of the noise estimate */
+#define SIG_LEARN_CUSUM_X_MAX 511   /* |residual| the CUSUM adds, LSB */
 #define SIG_LEARN_CUSUM_MAX  16383 /* k and h, Q4 LSB */
 #define SIG_LEARN_MAX_SHIFT  10u
 #define SIG_LEARN_NOISE_MIN_N 32u   /* block pairs before the CUSUM is armed */
@@ -172,6 +174,7 @@ typedef struct {
     uint16_t acc_y[SIG_LEARN_MAX_AXES];  /* pending sums of one bin: <= 16 * 4094 < 2^16 */
     uint16_t acc_dt, acc_lo;             /* pending sum of dt (< 2^14); the bin's lower edge - t_base */
     uint8_t acc_bin, acc_n;              /* the pending bin, its samples (< 16) */
+    uint8_t acc_room;                    /* pending samples before a flush: min(16, 2048 - count[acc_bin]) */
     int16_t cusum_pos[SIG_LEARN_MAX_AXES], cusum_neg[SIG_LEARN_MAX_AXES];
     int16_t k[SIG_LEARN_MAX_AXES], h[SIG_LEARN_MAX_AXES];  /* Q4 LSB, <= 16383; h == 0: test not armed */
     uint16_t noise[SIG_LEARN_MAX_AXES];                    /* N: 32 x the EWMA of |d|, LSB */

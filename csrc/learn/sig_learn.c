@@ -64,6 +64,7 @@ void sig_learn_reset(sig_learn *s)
     s->acc_n = 0u;
     s->acc_bin = 0u;
     s->acc_lo = 0u;
+    s->acc_room = (uint8_t)SIG_LEARN_ACC_MAX;
     s->stale = false;
 }
 
@@ -152,10 +153,16 @@ static sig_status learn_sample(sig_learn *s, int16_t t, const int16_t *raw)
         dt = d16;
         s->acc_bin = b;
         s->acc_lo = (uint16_t)(d0 - d16);
+        /* stop the pending sums where the bin reaches COUNT_MAX: it is then
+         * halved at exactly 2048 samples (even), so the solve's bias
+         * 2047 * count stays exact; an odd count would leave half a bias
+         * (~1 LSB of mean) in the halved sums */
+        s->acc_room = (uint8_t)(SIG_LEARN_COUNT_MAX - s->count[b] < SIG_LEARN_ACC_MAX
+                                ? SIG_LEARN_COUNT_MAX - s->count[b] : SIG_LEARN_ACC_MAX);
     }
     s->acc_dt = (uint16_t)(s->acc_dt + dt);
     for (a = 0u; a < n; a++) s->acc_y[a] = (uint16_t)(s->acc_y[a] + biased[a]);
-    if (++s->acc_n >= SIG_LEARN_ACC_MAX) sig_learn_flush(s);
+    if (++s->acc_n >= s->acc_room) sig_learn_flush(s);
     return SIG_OK;
 }
 
@@ -177,15 +184,13 @@ static void break_series(sig_learn *s)
     s->have_prev = false;
 }
 
-/* A full block: noise estimate from successive block sums, then the CUSUM
- * on them when a model is in use and the thresholds are armed.  true when
- * the CUSUM crossed its threshold.  int16 throughout (sig_learn.h: width). */
-static bool watch_block(sig_learn *s)
+/* A full block: the noise estimate from successive block sums (the ~30
+ * instructions of the pair spread over 8 still samples). */
+static void watch_block(sig_learn *s)
 {
     uint8_t a, n = s->cfg.n_axes;
-    int16_t x, p, pos, neg;
+    int16_t x, p;
     uint16_t d;
-    bool crossed = false;
     for (a = 0u; a < n; a++) {
         x = s->block_sum[a];
         s->block_sum[a] = 0;
@@ -196,29 +201,37 @@ static bool watch_block(sig_learn *s)
             s->noise[a] = (uint16_t)(s->noise[a] + d - (uint16_t)(s->noise[a] >> 5));
         }
         s->prev_r[a] = x;
-        if (!s->has_model || s->h[a] == 0) continue;
-        x = (int16_t)(clamp16(x, SIG_LEARN_CUSUM_X_MAX) * 2);      /* Q4 block mean, |x| <= 8176 */
-        pos = (int16_t)(s->cusum_pos[a] + x - s->k[a]);
-        neg = (int16_t)(s->cusum_neg[a] - x - s->k[a]);
-        s->cusum_pos[a] = pos > 0 ? pos : 0;
-        s->cusum_neg[a] = neg > 0 ? neg : 0;
-        if (pos > s->h[a] || neg > s->h[a]) crossed = true;
     }
     if (s->have_prev && s->noise_n < UINT16_MAX) s->noise_n++;
     s->have_prev = true;
-    return crossed;
 }
 
-/* Add a still residual (r: resid, or raw when no model is in use) to the
- * block; a full block is watched.  true when the CUSUM crossed. */
+/* A still residual (r: resid, or raw when no model is in use): the CUSUM on
+ * this sample when a model is in use and the thresholds are armed (per
+ * sample: a test once per block waits for 8 still samples and detects a
+ * shift later), then its block sum.  int16 throughout (sig_learn.h: width).
+ * true when the CUSUM crossed. */
 static bool watch_residual(sig_learn *s, const int16_t *r)
 {
     uint8_t a, n = s->cfg.n_axes;
-    for (a = 0u; a < n; a++)
+    int16_t x, pos, neg;
+    bool crossed = false;
+    for (a = 0u; a < n; a++) {
+        if (s->has_model && s->h[a] != 0) {
+            x = (int16_t)(clamp16(r[a], SIG_LEARN_CUSUM_X_MAX) * 16);   /* Q4, |x| <= 8176 */
+            pos = (int16_t)(s->cusum_pos[a] + x - s->k[a]);
+            neg = (int16_t)(s->cusum_neg[a] - x - s->k[a]);
+            s->cusum_pos[a] = pos > 0 ? pos : 0;
+            s->cusum_neg[a] = neg > 0 ? neg : 0;
+            if (pos > s->h[a] || neg > s->h[a]) crossed = true;
+        }
         s->block_sum[a] = (int16_t)(s->block_sum[a] + clamp16(r[a], SIG_LEARN_Y_MAX));  /* |sum| <= 8 * 2047 */
-    if (++s->block_n < SIG_LEARN_BLOCK) return false;
-    s->block_n = 0u;
-    return watch_block(s);
+    }
+    if (++s->block_n >= SIG_LEARN_BLOCK) {
+        s->block_n = 0u;
+        watch_block(s);
+    }
+    return crossed;
 }
 
 sig_status sig_learn_step(sig_learn *s, int16_t t, const int16_t *raw, const int16_t *resid, bool still)

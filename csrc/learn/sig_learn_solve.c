@@ -101,9 +101,10 @@ static void refresh_thresholds(sig_learn *s)
     uint32_t sigma, kv, hv;
     if (s->noise_n < SIG_LEARN_NOISE_MIN_N) return;
     for (a = 0u; a < s->cfg.n_axes; a++) {
-        /* the block mean's sigma (Q4) = 16 E|B - B_prev| sqrt(pi) / 2 / 8
-         * ~ (N / 32) * 2 * 227 / 256 */
-        sigma = ((uint32_t)s->noise[a] * 227u) >> 12;
+        /* one sample's sigma (Q4) = 16 E|B - B_prev| sqrt(pi) / 2 / sqrt(8)
+         * (B: the sum of 8 samples) ~ (N / 32) * 16 * 0.8862 / 2.828
+         * = N * 642 / 2^12 */
+        sigma = ((uint32_t)s->noise[a] * 642u) >> 12;
         if (sigma < s->cfg.sigma_floor) sigma = s->cfg.sigma_floor;
         /* limited to SIG_LEARN_CUSUM_MAX: k and h are int16 so that the
          * per-sample CUSUM is (sig_learn.h: width) */

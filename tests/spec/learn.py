@@ -4,16 +4,17 @@ sig_learn_solve.c, one sample at a time, in plain Python integers.
     step     still samples inside the bins (t_base, 2^bin_shift, n_bins) and
              within +-2047 add to the pending sums of their bin (y + 2047),
              which go into count, sum_dt, sum_y of the bin when the bin
-             changes, after 16 samples and at a solve; a bin reaching 2048
-             samples there is halved (floor).  The residual (model output, or
+             changes, after 16 samples, when the bin reaches 2048 samples
+             and at a solve; a bin at 2048 samples is halved (floor).  The residual (model output, or
              raw with no model), clamped to +-2047, is summed over blocks of
              8 still samples in the model's range (moving samples are left
              out; an out-of-range still one drops the block and breaks the
              series); per block B:
-             noise += min(|B - B_prev|, 2047) - (noise >> 5) and, with a
-             model and armed thresholds, the two-sided CUSUM on 2 B, B
-             clamped to +-4088; a crossing clears the bins and sets stale.
-    solve    thresholds from noise (sigma = max(floor, noise*227 >> 12);
+             noise += min(|B - B_prev|, 2047) - (noise >> 5).  With a
+             model and armed thresholds, every such sample feeds the
+             two-sided CUSUM on 16 r, r clamped to +-511; a crossing clears
+             the bins and sets stale.
+    solve    thresholds from noise (sigma = max(floor, noise*642 >> 12);
              k, h at most 16383);
              period; points (Q4 means) of covered bins; leave-one-bin-out
              SSE of the candidate and of the model in use; commit when
@@ -24,7 +25,7 @@ from . import image, tmodel
 
 COUNT_MAX, Y_MAX, NOISE_MIN_N, ERR_MAX = 2048, 2047, 32, 4095
 Y_BIAS, ACC_MAX = 2047, 16     # the sums are of y + 2047; pending samples of one bin at most
-BLOCK, CUSUM_X_MAX, CUSUM_MAX = 8, 4088, 16383   # block length, its sum's clamp, k and h limit (Q4)
+BLOCK, CUSUM_X_MAX, CUSUM_MAX = 8, 511, 16383   # noise block length, the CUSUM's residual clamp, k and h limit (Q4)
 STALE, SKIPPED, EXTRAPOLATED, COMMITTED = 512, 1024, 2048, 4096
 COMMIT, WAIT_PERIOD, WAIT_COVERAGE, NOT_BETTER = 0, 1, 2, 3
 SECTION_PWL_TABLE, SECTION_TEMP_CODE = 6, 10
@@ -85,7 +86,7 @@ class Learner:
         self.sum_dt = [0] * c["n_bins"]
         self.sum_y = [[0] * c["n_axes"] for _ in range(c["n_bins"])]
         self.pos, self.neg = [0] * c["n_axes"], [0] * c["n_axes"]
-        self.acc_y, self.acc_dt, self.acc_n, self.acc_bin = [0] * c["n_axes"], 0, 0, 0
+        self.acc_y, self.acc_dt, self.acc_n, self.acc_bin, self.acc_room = [0] * c["n_axes"], 0, 0, 0, ACC_MAX
         self.stale = False
 
     def use_model(self, model):
@@ -120,10 +121,13 @@ class Learner:
         if self.acc_n == 0 or b != self.acc_bin:
             self.flush()
             self.acc_bin = b
+            # the pending samples stop where the bin reaches COUNT_MAX: it is
+            # halved at exactly 2048 (even), so the bias 2047 * count stays exact
+            self.acc_room = min(ACC_MAX, COUNT_MAX - self.count[b])
         self.acc_dt += d & ((1 << c["bin_shift"]) - 1)
         self.acc_y = [s + y + Y_BIAS for s, y in zip(self.acc_y, raw)]
         self.acc_n += 1
-        if self.acc_n >= ACC_MAX:
+        if self.acc_n >= self.acc_room:
             self.flush()
         return 0
 
@@ -132,31 +136,31 @@ class Learner:
         self.block, self.block_n, self.have_prev = [0] * n, 0, False
 
     def _watch_block(self):
-        crossed = False
         for a, x in enumerate(self.block):
             if self.have_prev:
                 self.noise[a] += min(abs(x - self.prev[a]), Y_MAX) - (self.noise[a] >> 5)
             self.prev[a] = x
-            if self.model is None or self.h[a] == 0:
-                continue
-            xc = 2 * _clamp(x, -CUSUM_X_MAX, CUSUM_X_MAX)
-            pos = self.pos[a] + xc - self.k[a]
-            neg = self.neg[a] - xc - self.k[a]
-            self.pos[a], self.neg[a] = max(pos, 0), max(neg, 0)
-            crossed |= pos > self.h[a] or neg > self.h[a]
         self.block = [0] * len(self.block)
         if self.have_prev:
             self.noise_n = min(self.noise_n + 1, 65535)
         self.have_prev = True
-        return crossed
 
     def _watch(self, r):
+        crossed = False
+        for a, x in enumerate(r):
+            if self.model is None or self.h[a] == 0:
+                continue
+            xc = 16 * _clamp(x, -CUSUM_X_MAX, CUSUM_X_MAX)
+            pos = self.pos[a] + xc - self.k[a]
+            neg = self.neg[a] - xc - self.k[a]
+            self.pos[a], self.neg[a] = max(pos, 0), max(neg, 0)
+            crossed |= pos > self.h[a] or neg > self.h[a]
         self.block = [b + _clamp(x, -Y_MAX, Y_MAX) for b, x in zip(self.block, r)]
         self.block_n += 1
-        if self.block_n < BLOCK:
-            return False
-        self.block_n = 0
-        return self._watch_block()
+        if self.block_n >= BLOCK:
+            self.block_n = 0
+            self._watch_block()
+        return crossed
 
     def step(self, t, raw, resid, still):
         """Status of sig_learn_step (resid: the model's outputs, or None)."""
@@ -243,7 +247,7 @@ class Learner:
         c = self.cfg
         if self.noise_n >= NOISE_MIN_N:
             for a in range(c["n_axes"]):
-                sigma = max(c["sigma_floor"], (self.noise[a] * 227) >> 12)
+                sigma = max(c["sigma_floor"], (self.noise[a] * 642) >> 12)
                 self.k[a] = min((sigma * c["k_sigma"]) >> 4, CUSUM_MAX)
                 self.h[a] = min((sigma * c["h_sigma"]) >> 4, CUSUM_MAX)
         self.flush()
