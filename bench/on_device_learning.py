@@ -210,6 +210,10 @@ def main(argv=None):
         "state_bytes": {"goal": 512, "measured": sizes.get("msp430_state_bytes")},
         "per_sample_cycles_msp430": {"goal": 300, "measured": cycles["msp430"].get("step_cycles_mean")},
         "solve_cycles_msp430": {"goal": 50000, "measured": cycles["msp430"].get("solve_cycles")},
+        "per_sample_cycles_mcs51": {"goal": None, "measured": cycles["mcs51"].get("step_cycles_mean"),
+                                    "error": cycles["mcs51"].get("error")},
+        "solve_cycles_mcs51": {"goal": None, "measured": cycles["mcs51"].get("solve_cycles"),
+                               "error": cycles["mcs51"].get("error")},
     }
     for k, v in goals.items():
         print(f"{k:<38} goal {v['goal']}  measured {v['measured']}")

@@ -409,6 +409,65 @@ CASES += [
 ]
 
 
+def _learn_log(n=3000, seed=4):
+    """temp (°C), x (int16 codes): a day-like swing the learner commits on."""
+    rng = np.random.default_rng(seed)
+    temp = 25 + 15 * np.sin(np.arange(n) / 300)
+    x = np.rint(3 * (temp - 25) + rng.normal(0, 1, n)).astype(int)
+    return ["temp,x"] + [f"{a:.2f},{b}" for a, b in zip(temp, x)]
+
+
+LEARN = _learn_log()
+
+
+def case_learn(lines, *extra, start=None):
+    """`pysig learn` on a CSV given as lines; its output directory is the
+    case's directory (replay.csv is the output checked); start: bytes of a
+    --start image, or the name of a file that is not there."""
+    def build(tmp, model):
+        src = tmp / "in.csv"
+        src.write_text("\n".join(lines) + "\n")
+        argv = ["learn", str(src), "--temp", "temp", *extra, "-o", str(tmp)]
+        if isinstance(start, bytes):
+            (tmp / "start.bin").write_bytes(start)
+            argv += ["--start", str(tmp / "start.bin")]
+        elif start is not None:
+            argv += ["--start", str(tmp / start)]
+        return argv, tmp / "replay.csv"
+    return build
+
+
+def _learned_image():
+    import tempfile
+    with tempfile.TemporaryDirectory() as d:
+        argv, _ = case_learn(LEARN, "--columns", "x")(Path(d), None)
+        with contextlib.redirect_stdout(io.StringIO()):
+            assert main(argv) == 0
+        return (Path(d) / "model.bin").read_bytes()
+
+
+def _flip(data, i):
+    return data[:i] + bytes([data[i] ^ 1]) + data[i + 1:]
+
+
+CASES += [
+    ("learn-missing-column", case_learn(LEARN, "--columns", "x,q"), InputFileError,
+     ["in.csv", "'q'", "missing"]),
+    ("learn-too-many-columns", case_learn(LEARN, "--columns", "x,x,x,x"), InputFileError,
+     ["--columns", "1 to 3"]),
+    ("learn-nan-temperature", case_learn(_with_row(LEARN, 3, "nan,5"), "--columns", "x"), NonFiniteError,
+     ["in.csv", "row 4", "'temp'", "missing value"]),
+    ("learn-non-integer-reading", case_learn(_with_row(LEARN, 5, "25.00,5.5"), "--columns", "x"), RangeError,
+     ["in.csv", "row 6", "'x'", "5.5", "integer"]),
+    ("learn-reading-beyond-int16", case_learn(_with_row(LEARN, 5, "25.00,40000"), "--columns", "x"),
+     RangeError, ["in.csv", "row 6", "'x'", "40000", "int16"]),
+    ("learn-start-missing", case_learn(LEARN, "--columns", "x", start="none.bin"), ModelFileError,
+     ["none.bin", "cannot read"]),
+    ("learn-start-corrupt", case_learn(LEARN, "--columns", "x", start=_flip(_learned_image(), 20)),
+     ModelFileError, ["start.bin", "refused by the C loader"]),
+]
+
+
 # Cases the spec demands but another owner's code does not do yet: each is an
 # xfail(strict=True) naming the file and the fix, so the test turns red (XPASS)
 # the moment the fix lands and the entry must go.  Listed in the report.

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputFileError, RangeError
+from ..errors import InputFileError, ModelFileError, RangeError
 from ..status import Warn
 from ._config import LearnConfig
 from ._learn import OUTCOMES, DeviceLearner
@@ -86,8 +86,10 @@ def replay(t, readings, still, config, start_image=None, solve_every=60):
         Temperatures or readings that do not fit int16, or a configuration
         the C learner refuses.
     InputFileError
-        Arrays of different lengths, or a start image with another number
-        of axes or one the C loader refuses.
+        Arrays of different lengths, or another number of reading columns
+        than the configuration's axes.
+    ModelFileError
+        A start image the C loader refuses or with another number of axes.
 
     Examples
     --------
@@ -116,7 +118,7 @@ def replay(t, readings, still, config, start_image=None, solve_every=60):
     if dev.status != 0:
         raise RangeError(f"learn: the C learner refuses the configuration {config}")
     if start_image is not None and dev.use_image(start_image) != 0:
-        raise InputFileError("learn: the start model's image is refused by the C loader or has "
+        raise ModelFileError("learn: the start model's image is refused by the C loader (corrupt, CRC) or has "
                              f"another number of axes than the {config.n_axes} columns")
     codes = (t + 32768) if config.code_kind == 1 else (t & 0xFFFF)
     comp, status, seq, commits, solves = dev.replay(codes.astype(np.uint16), x.astype(np.int16), g,

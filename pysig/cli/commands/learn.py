@@ -13,7 +13,7 @@ int16 sensor codes (the learner learns offsets up to +-2047 LSB); without
 and the start model's range."""
 import numpy as np
 
-from ...errors import InputFileError, RangeError
+from ...errors import InputFileError, ModelFileError, RangeError
 from ...io import read_csv
 from ...learn import LearnConfig, replay, write_outputs
 from ...tcomp import CELSIUS, image_bytes, load, raw_code
@@ -44,11 +44,13 @@ def _temp_code(args, temp):
 def _start_image(path, what):
     if path is None:
         return None
-    with open(path, "rb") as fh:
-        head = fh.read(4)
-    if head == b"psig":
+    try:
         with open(path, "rb") as fh:
-            return fh.read()
+            data = fh.read()
+    except OSError as e:        # as `apply --model` says it
+        raise ModelFileError(f"{path}: cannot read: {e.strerror}") from None
+    if data[:4] == b"psig":
+        return data
     return image_bytes(load(path), what=what)
 
 
@@ -62,16 +64,25 @@ def run(args):
     code = _temp_code(args, temp)
     t = code.to_t(temp, what=f"{args.log}: column {args.temp}")
     raw = np.stack([data[a] for a in axes], 1)
+    # rows counted as the CSV reader does: the header is row 1
     frac = np.flatnonzero(raw != np.rint(raw))
     if frac.size:
         i = int(frac[0])
-        raise RangeError(f"{args.log}: column {axes[i % len(axes)]} row {i // len(axes) + 1} is not an "
-                         f"integer sensor code ({raw.flat[i]!r}); the learner takes int16 codes")
+        raise RangeError(f"{args.log}: row {i // len(axes) + 2}, column '{axes[i % len(axes)]}': "
+                         f"{float(raw.flat[i]):g} is not an integer sensor code; the learner takes int16 codes")
+    wide = np.flatnonzero((raw < -32768) | (raw > 32767))
+    if wide.size:
+        i = int(wide[0])
+        raise RangeError(f"{args.log}: row {i // len(axes) + 2}, column '{axes[i % len(axes)]}': "
+                         f"{float(raw.flat[i]):g} does not fit the int16 reading the learner takes")
     still = data[args.still] != 0 if args.still else np.ones(len(t), dtype=bool)
     start = _start_image(args.start, "learn")
     config = LearnConfig.for_log(t, len(axes), start, code_kind=code.code_kind, period=args.period,
                                  min_count=args.min_count)
-    result = replay(t, raw.astype(np.int64), still, config, start_image=start, solve_every=args.solve_every)
+    try:
+        result = replay(t, raw.astype(np.int64), still, config, start_image=start, solve_every=args.solve_every)
+    except ModelFileError as e:     # the start image: name the file
+        raise ModelFileError(f"{args.start}: {e}") from None
     paths = write_outputs(result, args.output, axes, raw, temp, args.temp, still)
     print(f"learn: {len(t)} samples, {int(still.sum())} still; bins {config.n_bins} x {1 << config.bin_shift} "
           f"from t={config.t_base}; {len(result.commits)} commit(s)"
