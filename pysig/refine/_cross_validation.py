@@ -38,25 +38,47 @@ def bridge_rows(X_train, names):
     return rows, np.zeros(len(weak))
 
 
+UNSEEN_NORM = 1e-2     # a column with under 1e-4 of its energy on the training rows
+
+
+def unseen_columns(X, rows, names):
+    """Columns the training rows do not determine: their norm there is
+    under UNSEEN_NORM of their norm on the whole record (a warm-up of a
+    short time constant when its start is held out).  Fitted, such a column
+    takes a coefficient of the noise over its tiny training norm and
+    extrapolates it into the held-out rows; it is left out instead (its
+    coefficient 0: the fold predicts as if the effect were absent).  Table
+    knots are not among them: bridge_rows ties those to their neighbours."""
+    full = np.linalg.norm(X, axis=0)
+    unseen = np.linalg.norm(X[rows], axis=0) < UNSEEN_NORM * full
+    return unseen & ~np.array([nm.startswith(fx.TABLE_PREFIX) for nm in names])
+
+
 def fit_rows(X, y, rows, names):
-    """Least squares of X[rows] on y[rows], table knots bridged (bridge_rows)."""
-    Xt, yt = X[rows], y[rows]
-    extra = bridge_rows(Xt, names)
+    """Least squares of X[rows] on y[rows], table knots bridged (bridge_rows),
+    columns the rows do not determine left at 0 (unseen_columns)."""
+    keep = ~unseen_columns(X, rows, names)
+    Xt, yt = X[rows][:, keep], y[rows]
+    extra = bridge_rows(Xt, [nm for nm, k in zip(names, keep) if k])
     if extra is not None:
         Xt, yt = np.vstack([Xt, extra[0]]), np.concatenate([yt, extra[1]])
-    return fit_linear_model(Xt, yt, what="refine cv")
+    beta = np.zeros(X.shape[1])
+    beta[keep], _ = fit_linear_model(Xt, yt, what="refine cv")
+    return beta, None
 
 
 def cv_residual(data, spec, opts, candidate=None):
-    """Out-of-sample residual of `spec` (+ `candidate`, a (family, variant)
-    or (family, variant, grid top) whose nonlinear parameter is chosen per
-    fold on the training rows).
+    """Out-of-sample residual of `spec` (+ `candidate`, a (family, variant),
+    (family, variant, grid top) or (family, variant, grid top, full-data
+    fit) whose nonlinear parameter is chosen per fold on the training rows
+    among Family.fold_grid).
     NaN where the sample is masked out."""
     gap = opts.gap if opts.gap is not None else max(1, data.n // (4 * opts.folds))
     specs = [spec]
     if candidate is not None:
-        fam, variant, top = (*candidate, None)[:3]
-        specs = [spec.with_effect(fx.Effect(fam.name, variant, p)) for p in fam.grid(data, top)]
+        fam, variant, top, center = (*candidate, None, None)[:4]
+        specs = [spec.with_effect(fx.Effect(fam.name, variant, p))
+                 for p in fam.fold_grid(data, top, center)]
     designs = [fx.design(data, s) for s in specs]
     e = np.full(data.n, np.nan)
     for train, test in fold_rows(data.n, opts.folds, gap):
