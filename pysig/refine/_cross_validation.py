@@ -74,11 +74,11 @@ def cv_residual(data, spec, opts, candidate=None):
     among Family.fold_grid).
     NaN where the sample is masked out."""
     gap = opts.gap if opts.gap is not None else max(1, data.n // (4 * opts.folds))
-    specs = [spec]
+    specs, params, center = [spec], [None], None
     if candidate is not None:
         fam, variant, top, center = (*candidate, None, None)[:4]
-        specs = [spec.with_effect(fx.Effect(fam.name, variant, p))
-                 for p in fam.fold_grid(data, top, center)]
+        params = fam.fold_grid(data, top, center)
+        specs = [spec.with_effect(fx.Effect(fam.name, variant, p)) for p in params]
     designs = [fx.design(data, s) for s in specs]
     e = np.full(data.n, np.nan)
     for train, test in fold_rows(data.n, opts.folds, gap):
@@ -90,16 +90,31 @@ def cv_residual(data, spec, opts, candidate=None):
             raise InsufficientDataError(
                 f"refine: a cross-validation fold keeps {int(tr.sum())} training samples for "
                 f"{designs[0][0].shape[1]} parameters; use fewer folds or more data")
-        best = None
+        fits = []
         for X, names in designs:
             beta, _ = fit_rows(X, data.y, tr, names)
             res = data.y[tr] - X[tr] @ beta
-            sse = float(res @ res)
-            if best is None or sse < best[0]:
-                best = (sse, X, beta)
-        _, X, beta = best
+            fits.append((float(res @ res), X, beta))
+        _, X, beta = fits[fold_choice([f[0] for f in fits], params, center, int(tr.sum()),
+                                      designs[0][0].shape[1] + 1)]
         e[te] = data.y[te] - X[te] @ beta
     return e
+
+
+def fold_choice(sse, params, center, n_train, n_coef):
+    """Index of the parameter a fold takes: the least training SSE, unless
+    the training rows cannot tell it from others (SSE within one residual
+    variance of the least, what one fitted parameter moves by chance); then,
+    among those, the one nearest the full-data fit `center` (in log).  A
+    fold that holds out the start of a warm-up sees only its tail, whose SSE
+    is flat in the time constant: the least SSE is then a coin toss that
+    decides how the held-out start is extrapolated."""
+    i = int(np.argmin(sse))
+    if center is None or params[i] is None:
+        return i
+    tie = sse[i] + sse[i] / max(1, n_train - n_coef)
+    near = [k for k, v in enumerate(sse) if v <= tie]
+    return min(near, key=lambda k: abs(np.log(params[k] / center)))
 
 
 def rms(e):
