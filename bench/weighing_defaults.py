@@ -407,14 +407,9 @@ def plot(out, path):
         y = [r["settle_s"] if r["settle_s"] is not None else 20.0 for r in rs]
         ax.scatter(x, y, s=12, label=config, marker="o" if config == "default" else ".",
                    alpha=0.9 if config == "default" else 0.5, zorder=3 if config == "default" else 2)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.axhline(1.2, color="k", lw=0.6, ls="--")
-    ax.axvline(0.3, color="k", lw=0.6, ls="--")
-    ax.set_xlabel("steady output std / sigma (worst over seeds)")
-    ax.set_ylabel("settle time, slowest step (s); 20 = never")
-    ax.set_title("Weighing defaults: settle time against steady noise, every grid cell")
-    ax.legend(fontsize=8, ncol=2)
+    weighing_cli.log_log_axes(ax, 1.2, 0.3, "steady output std / sigma (worst over seeds)",
+                              "settle time, slowest step (s); 20 = never",
+                              "Weighing defaults: settle time against steady noise, every grid cell")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -296,14 +296,9 @@ def plot(res, path):
         pts.sort()
         ax.scatter([p[0] for p in pts], [max(p[1], 0.05) for p in pts], s=14 if config == "default" else 6,
                    label=config, zorder=3 if config == "default" else 2)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.axhline(1.0, color="k", lw=0.7, ls="--")
-    ax.axvline(5.0, color="k", lw=0.5, ls=":")
-    ax.set_xlabel("pour slope (noise sigma per sample)")
-    ax.set_ylabel("ramp lag, 95th percentile (samples; floored at 0.05)")
-    ax.set_title("Pours: lag of the output behind the load")
-    ax.legend(fontsize=7, ncol=2)
+    weighing_cli.log_log_axes(ax, 1.0, 5.0, "pour slope (noise sigma per sample)",
+                              "ramp lag, 95th percentile (samples; floored at 0.05)",
+                              "Pours: lag of the output behind the load", vline_style=":")
     x, _, truth, sigma, t, _ = make_run("kg", 1 / 1000, 0.01, 0)
     sl = (t >= 8) & (t <= 58)
     bx.plot(t[sl], x[sl], color="0.7", lw=0.8, label="samples")

@@ -28,6 +28,20 @@
 
 #define REQUIRE(cond) do { if (!(cond)) abort(); } while (0)
 
+/* A chain init that refuses its parameters must say SIG_ERR_ARG and leave
+ * the (poisoned) state byte for byte as it was; the harness then stops. */
+#define INIT_OR_STOP(chain, before, init_call) do {                        \
+        sig_status init_st;                                                \
+        memset(&(chain), 0x77, sizeof (chain));                            \
+        (before) = (chain);                                                \
+        init_st = (init_call);                                             \
+        if (init_st != SIG_OK) {                                           \
+            REQUIRE(init_st == SIG_ERR_ARG                                 \
+                    && memcmp(&(chain), &(before), sizeof (chain)) == 0);  \
+            return;                                                        \
+        }                                                                  \
+    } while (0)
+
 static int not_nan(sig_real x) { return x == x; }
 
 static void check_noise_f(const sig_chain_f *c)
@@ -106,13 +120,7 @@ static void fuzz_float(fuzz_input *in)
         p.zero_band = fuzz_real(in); p.zero_rate = fuzz_real(in);
     }
     p.noise_auto = (steer & 4u) != 0;
-    memset(&c, 0x77, sizeof c);
-    before = c;
-    st = sig_chain_init_f(&c, &p);
-    if (st != SIG_OK) {
-        REQUIRE(st == SIG_ERR_ARG && memcmp(&c, &before, sizeof c) == 0);
-        return;
-    }
+    INIT_OR_STOP(c, before, sig_chain_init_f(&c, &p));
     check_f(&c);
     for (n = 0; n < 4096 && fuzz_left(in) > 0; n++) {
         uint8_t op = fuzz_u8(in);
@@ -185,13 +193,7 @@ static void fuzz_fixed(fuzz_input *in)
         p.zero_band_q7 = fuzz_i32_edgy(in); p.zero_rate_q7 = fuzz_i32_edgy(in);
     }
     p.noise_auto = (steer & 4u) != 0;
-    memset(&c, 0x77, sizeof c);
-    before = c;
-    st = sig_chain_init_q(&c, &p);
-    if (st != SIG_OK) {
-        REQUIRE(st == SIG_ERR_ARG && memcmp(&c, &before, sizeof c) == 0);
-        return;
-    }
+    INIT_OR_STOP(c, before, sig_chain_init_q(&c, &p));
     check_q(&c, p.x0_q7);
     for (n = 0; n < 4096 && fuzz_left(in) > 0; n++) {
         uint8_t op = fuzz_u8(in);

@@ -6,7 +6,11 @@ paths, each proven to compute exactly what the portable C computes.
   portable chain (pysig.weigh.Chain(fixed=True)) on hypothesis-drawn
   parameters and signals, and built with sdcc it runs in s51 with the same
   outputs, stability flags and statuses on a 700-sample weighing run
-  (load changes, impulses, a lock-out re-seed, a motion restart).
+  (load changes, impulses, a lock-out re-seed, a motion restart); the
+  same for the default chain (`auto`: noise measured, ramps followed,
+  stable only when backed), whose steady state the port runs in its own
+  arithmetic, on hypothesis-drawn counts, Kalman settings and signals
+  with pours and bumps fed in pieces.
 - csrc/port/msp430/*.S, assembly on the 16x16 multiplier: every output and
   status in mspdebug's simulator equals the host C (sig_tcomp16_apply_q,
   sig_pwl_eval_q16 through Cython) on the bench's vectors and on others.
@@ -20,6 +24,7 @@ from conftest import CSRC_INCLUDE, ROOT, require_tool
 
 from pysig.errors import RangeError
 from lab.mcu import pwl_vectors, runner, tcomp16_vectors, vectors
+from lab.mcu.cost_tables import chain_mcs51_port_build
 from lab.mcu.host_port import ChainMcs51, gain_table
 from spec.chain import chain_fixed_params, chain_params
 from pysig.weigh import Chain
@@ -38,13 +43,20 @@ def _compile(cmd, tmp_path):
 
 
 # ------------------------------------------------------------ portability ---
+# the default chain's build: the shared stage code of csrc/weigh, fixed-only
+AUTO_FLAGS = ["-DSIG_CHAIN_MCS51_AUTO", "-DSIG_NO_FLOAT", "-I", ROOT / "csrc" / "weigh"]
+
+
+@pytest.mark.parametrize("auto", [False, True], ids=["fixed", "auto"])
 @pytest.mark.parametrize("src", sorted((PORT / "mcs51").glob("*.c")), ids=lambda p: p.name)
-def test_mcs51_port_builds_warning_free(src, tmp_path):
+def test_mcs51_port_builds_warning_free(src, auto, tmp_path):
     gcc, sdcc = require_tool("gcc"), require_tool("sdcc")
+    extra = AUTO_FLAGS if auto else []
     _compile([gcc, "-std=c99", "-Wall", "-Wextra", "-Wconversion", "-Wshadow", "-pedantic",
-              "-Werror", "-O2", "-I", CSRC_INCLUDE, "-c", src, "-o", tmp_path / "x.o"], tmp_path)
-    _compile([sdcc, "-mmcs51", "--model-large", "--std-c99", "-I", CSRC_INCLUDE, "-c", src,
-              "-o", str(tmp_path) + "/"], tmp_path)
+              "-Werror", "-O2", "-I", CSRC_INCLUDE, *extra, "-c", src, "-o", tmp_path / "x.o"], tmp_path)
+    for model in (["--model-large"], ["--model-large", "--stack-auto", "--xstack"]) if auto else (["--model-large"],):
+        _compile([sdcc, "-mmcs51", *model, "--std-c99", "-I", CSRC_INCLUDE, *extra, "-c", src,
+                  "-o", str(tmp_path) + "/"], tmp_path)
 
 
 @pytest.mark.parametrize("src", sorted((PORT / "msp430").glob("*.S")), ids=lambda p: p.name)
@@ -113,6 +125,81 @@ def test_chain_mcs51_equals_portable_chain(case):
     np.testing.assert_array_equal(status, h_status)
 
 
+# ------------------------------------------- the default chain on the port ---
+@st.composite
+def auto_cases(draw):
+    """the default preset with its count and Kalman overrides, on signals
+    with load changes, pours (ramps of several slopes), bumps, impulses and
+    noise of any size, around any offset; split at random points"""
+    ov = dict(window=draw(st.integers(3, 32)),
+              Q=draw(st.sampled_from([1e-4, 1e-3, 1e-2, 0.1])),
+              P0=draw(st.sampled_from([1.0, 10.0, 100.0])),
+              stable_count=draw(st.integers(1, 6)),
+              lockout_n=draw(st.sampled_from([0, 1, 2, 3, 8])),
+              motion_count=draw(st.integers(1, 4)))
+    seed = draw(st.integers(0, 2**32 - 1))
+    n = draw(st.integers(1, 600))
+    noise = draw(st.sampled_from([0.0, 0.4, 3.0, 70.0, 2000.0]))
+    offset = draw(st.sampled_from([0, 12345, -2**23, 2**24 - 500]))
+    cuts = sorted(draw(st.lists(st.integers(0, n), max_size=4)))
+    return ov, seed, n, noise, offset, cuts
+
+
+def _pours(seed, n, noise):
+    """a ramp of tens of sigma per sample (a pour) in about one sample of
+    eight, then the load stays; a bump: a short force, then the same load"""
+    rng = np.random.default_rng(seed ^ 0x5EED)
+    x = np.zeros(n)
+    level, i = 0.0, 0
+    while i < n:
+        k = int(rng.integers(5, 60))
+        if rng.random() < 0.5:
+            slope = rng.choice([-1, 1]) * rng.uniform(3, 60) * (noise + 1)
+            x[i:i + k] = level + slope * np.arange(1, min(k, n - i) + 1)
+            level = x[min(i + k, n) - 1]
+        else:
+            x[i:i + k] = level
+            if rng.random() < 0.3:
+                x[i + k // 2:i + k // 2 + 2] += rng.uniform(20, 200) * (noise + 1)
+        i += k
+    return x[:n]
+
+
+@settings(max_examples=60, deadline=None)
+@given(auto_cases())
+def test_chain_mcs51_default_chain_equals_portable_chain(case):
+    """the port running the default chain (its steady state in the port's
+    own arithmetic, every other step the portable chain) equals the portable
+    fixed chain bit for bit: outputs, stable flags, statuses, with the
+    samples fed in pieces"""
+    ov, seed, n, noise, offset, cuts = case
+    fixed = chain_fixed_params(chain_params("auto", **ov))
+    x = _signal(seed, n, noise, offset) + np.round(_pours(seed, n, noise)).astype(np.int64)
+    x = np.clip(x, -2**31, 2**31 - 1)
+    chain = ChainMcs51(fixed)
+    parts = [chain.process(p.astype(np.int32)) for p in np.split(x, cuts)]
+    out, stable, status = (np.concatenate([p[i] for p in parts]) for i in range(3))
+    h_out, h_stable, h_status = _portable("auto", None, ov, x)
+    np.testing.assert_array_equal(out, h_out)
+    np.testing.assert_array_equal(stable, h_stable)
+    np.testing.assert_array_equal(status, h_status)
+
+
+def test_chain_mcs51_default_chain_runs_its_steady_state_on_the_port():
+    """on a weighing run the port's own path takes most steps (the state
+    stays in the port's fields between them), and the run has what the
+    default chain's rules act on: rejections, restarts, stable samples"""
+    case = vectors.chain_case(n=700, preset="auto")
+    chain = ChainMcs51(case.fixed)
+    out, stable, status = chain.process(case.x)
+    assert chain.hot.mean() > 0.8
+    assert (status & 4).any() and (status & 16).any() and stable.mean() > 0.5
+    h_out, h_stable, h_status = _portable("auto", None, {}, case.x)
+    np.testing.assert_array_equal(out, h_out)
+    np.testing.assert_array_equal(stable, h_stable)
+    np.testing.assert_array_equal(status, h_status)
+
+
 def test_chain_mcs51_state_carries_across_calls():
     case = vectors.chain_case(n=500, seed=3)
     whole = ChainMcs51(case.fixed).process(case.x)
@@ -128,12 +215,10 @@ def test_chain_mcs51_refuses_what_it_cannot_hold():
         ChainMcs51(dict(f, a0=9000))              # wider than the int16 window range allows
     with pytest.raises(RangeError, match="8051"):
         ChainMcs51(dict(f, window=2))
-    # the default chain (thresholds following the measured noise, ramps,
-    # backed stable) is not ported: init refuses it rather than run it wrong
+    # the default chain's start rule (it re-seeds on the window mean) as the
+    # portable chain's
     with pytest.raises(RangeError, match="8051"):
-        ChainMcs51(dict(f, noise_auto=True))
-    with pytest.raises(RangeError, match="8051"):
-        ChainMcs51(vectors.chain_case(preset="auto").fixed)
+        ChainMcs51(dict(vectors.chain_case(preset="auto").fixed, seed_first=False))
     with pytest.raises(RangeError, match="settle"):
         gain_table(f["q_q30"], f["p0_q16"], max_len=50)
 
@@ -156,15 +241,18 @@ def test_gain_table_replays_the_portable_kalman():
 
 
 # ------------------------------------------------------- 8051 chain, s51 ---
-def test_chain_mcs51_in_s51_equals_portable_chain(tmp_path):
+@pytest.mark.parametrize("preset", [vectors.CHAIN_PRESET, "auto"])
+def test_chain_mcs51_in_s51_equals_portable_chain(preset, tmp_path):
+    """the port built by sdcc, in s51, on a 700-sample weighing run: every
+    output, flag and status as the portable chain's on the host; for the
+    default chain the build of the bench (SIG_CHAIN_MCS51_AUTO, fixed-only,
+    the portable chain beside the port)"""
     require_tool("sdcc")
     require_tool("s51")
-    case = vectors.chain_case(n=700)
+    case = vectors.chain_case(n=700, preset=preset)
     gains = gain_table(case.fixed["q_q30"], case.fixed["p0_q16"])
-    vectors.write_chain_mcs51_header(case, gains, tmp_path / "chain_vectors.h")
     x_restart, n_pre = vectors.chain_restart_plan(case)
-    img = runner.build_mcs51([CHAIN_PORT], HARNESS / "chain_mcs51_harness.c", [],
-                             include_dirs=[tmp_path, CHAIN_PORT.parent])
+    img = chain_mcs51_port_build(case, gains, tmp_path, f"chain-mcs51-test-{preset}")
     n = len(case.x)
     res = runner.measure(img, reads={"vec_out": 4 * n, "vec_stable": n, "vec_status": 2 * n,
                                      "init_status": 2, "one_status": 2, "one_out": 4,

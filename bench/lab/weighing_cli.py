@@ -41,3 +41,16 @@ def write_outputs(out, args, plot_name, write_json, plot):
         os.makedirs(args.plot, exist_ok=True)
         plot(out, Path(args.plot) / plot_name)
         print(f"wrote {Path(args.plot) / plot_name}")
+
+
+def log_log_axes(ax, hline, vline, xlabel, ylabel, title, vline_style="--"):
+    """Both weighing benches' scatter plots: log-log, the goal as a dashed
+    horizontal line, the range limit as a vertical one, a small legend."""
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.axhline(hline, color="k", lw=0.7, ls="--")
+    ax.axvline(vline, color="k", lw=0.6, ls=vline_style)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend(fontsize=7, ncol=2)

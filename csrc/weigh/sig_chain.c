@@ -225,6 +225,7 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = SIG_REAL(0.0);
+    c->trend_up = c->trend_dn = SIG_REAL(0.0);
     c->drift_age = 0u;
     c->drifting = true;
     (void)sig_noise_reset_f(&c->noise);
@@ -236,7 +237,7 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
 {
     sig_status st, ret;
     sig_real y, m, xk;
-    bool stab, ramp_ended;
+    bool stab, ramp_ended, trending;
     if (!c || !out || !stable) return SIG_ERR_ARG;
     /* a ramp needs a seeded limit, so nothing changes before the error below */
     ramp_ended = c->noise_auto && ramp_before_f(c, x);
@@ -281,8 +282,10 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
             c->drifting = xk - c->anchor > c->noise.sigma || c->anchor - xk > c->noise.sigma;
         c->anchor = xk;
     }
+    trending = c->noise_auto
+               && sig_chain_trend_f(c->ap.count < c->ap.n, y - xk, c->noise.sigma, &c->trend_up, &c->trend_dn);
     if (c->noise_auto && stab)
-        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting,
+        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, trending,
                                 y - xk <= c->near_band && xk - y <= c->near_band
                                 && m - xk <= c->noise.sigma && xk - m <= c->noise.sigma);
     if (stab && sig_chain_offset_f(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
@@ -404,6 +407,8 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = 0;
+    c->trend_up = c->trend_dn = 0;
+    c->trending = false;
     c->drift_age = 0u;
     c->drifting = true;
     (void)sig_noise_reset_q(&c->noise);
@@ -456,8 +461,13 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
         if (c->ap.count == c->ap.n) c->drifting = sig_abs32_sat(sig_sat_sub32(xk, c->anchor)) > c->noise.sigma;
         c->anchor = xk;
     }
+    /* the verdict in the state, not in a local: the 8051's stack holds
+     * this frame on the chain's deepest call path */
+    c->trending = c->noise_auto
+                  && sig_chain_trend_q(c->ap.count < c->ap.n, sig_sat_sub32(codes_to_q7(y), xk), c->noise.sigma,
+                                       &c->trend_up, &c->trend_dn);
     if (c->noise_auto && stab)
-        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting,
+        stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, c->trending,
                                 sig_abs32_sat(sig_sat_sub32(codes_to_q7(y), xk)) <= c->near_band
                                 && sig_abs32_sat(sig_sat_sub32(m7, xk)) <= c->noise.sigma);
     if (stab && sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))

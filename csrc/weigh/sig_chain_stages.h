@@ -106,12 +106,56 @@ SIG_CHAIN_STAGE bool sig_chain_drift_due(bool refilling, uint8_t *age, uint8_t n
 
 /* noise_auto: the stability detector's verdict counts only when the output
  * is backed by the samples (sig_chain.h); `near`: the sample and the window
- * mean near the output, tested by the caller in its own format. */
+ * mean near the output, tested by the caller in its own format; `trending`:
+ * the samples have begun to leave the output on one side (sig_chain_trend_*). */
 SIG_CHAIN_STAGE bool sig_chain_backed(sig_status ret, uint8_t held, uint8_t n, uint8_t motion_run,
-                                      bool drifting, bool near)
+                                      bool drifting, bool trending, bool near)
 {
     return (ret & (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED | SIG_CHAIN_MOTION | SIG_CHAIN_RAMP)) == 0
-        && held == n && motion_run == 0u && !drifting && near;
+        && held == n && motion_run == 0u && !drifting && !trending && near;
+}
+
+/* noise_auto: a two-sided CUSUM of the sample's residual r = y - output,
+ * allowance sigma, alarm above 2 sigma (sig_chain.h): a load that has begun
+ * to move by a few sigma per sample shows here one or two samples before the
+ * motion test trips, while on a still load the sums rarely pass 2 sigma.
+ * Both sums start again with the window (refilling).  True while either
+ * sum is above 2 sigma. */
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
+SIG_CHAIN_STAGE bool sig_chain_trend_f(bool refilling, sig_real r, sig_real sigma, sig_real *up, sig_real *dn)
+{
+    sig_real u, d;
+    if (refilling) {
+        *up = *dn = SIG_REAL(0.0);
+        return false;
+    }
+    /* in locals, each clamp a max and one test of the larger sum: the
+     * residual's sign is random, a branch on it would be mispredicted half
+     * the time (the batch path runs this on every sample) */
+    u = *up + r - sigma;
+    d = *dn - r - sigma;
+    u = (u + (u < SIG_REAL(0.0) ? -u : u)) * SIG_REAL(0.5);   /* max(u, 0) without a branch */
+    d = (d + (d < SIG_REAL(0.0) ? -d : d)) * SIG_REAL(0.5);
+    *up = u;
+    *dn = d;
+    return (u > d ? u : d) > sigma + sigma;
+}
+#endif /* SIG_NO_FLOAT */
+
+/* the fixed form: r and sigma in Q24.7, saturating */
+SIG_CHAIN_STAGE bool sig_chain_trend_q(bool refilling, int32_t r, int32_t sigma, int32_t *up, int32_t *dn)
+{
+    int32_t u, d, two;
+    if (refilling) {
+        *up = *dn = 0;
+        return false;
+    }
+    u = sig_sat_sub32(sig_sat_add32(*up, r), sigma);
+    d = sig_sat_sub32(sig_sat_sub32(*dn, r), sigma);
+    *up = u > 0 ? u : 0;
+    *dn = d > 0 ? d : 0;
+    two = sig_sat_add32(sigma, sigma);
+    return *up > two || *dn > two;
 }
 
 #ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */

@@ -101,6 +101,64 @@ def _f64(a):
     return np.ascontiguousarray(np.ravel(a), dtype=np.float64)
 
 
+ctypedef fused lag_like_q:
+    sig_lag_q
+    sig_creep_q
+
+ctypedef fused stateful_f:
+    sig_lag_f
+    sig_hyst_f
+    sig_creep_f
+
+
+cdef inline sig_status _step_q(lag_like_q *s, int32_t x, int32_t *a, int32_t *b) noexcept nogil:
+    if lag_like_q is sig_lag_q:
+        return sig_lag_step_q(s, x, a)
+    else:
+        return sig_creep_step_q(s, x, a, b)
+
+
+cdef inline sig_status _step_f(stateful_f *s, double x, double *a, double *b) noexcept nogil:
+    if stateful_f is sig_lag_f:
+        return sig_lag_step_f(s, x, a)
+    elif stateful_f is sig_hyst_f:
+        return sig_hyst_step_f(s, x, a, b)
+    else:
+        return sig_creep_step_f(s, x, a, b)
+
+
+cdef tuple _run_q(lag_like_q *s, x):
+    """The fixed-point lag-like effects over int32 x: (first output, second
+    output (zeros for the lag), status per sample)."""
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] xs = _i32(x)
+    cdef Py_ssize_t n = xs.shape[0], i
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] a = np.zeros(n, dtype=np.int32)
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] b = np.zeros(n, dtype=np.int32)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
+    with nogil:
+        for i in range(n):
+            st[i] = _step_q(s, xs[i], &a[i], &b[i])
+    return a, b, st
+
+
+cdef tuple _run_f(stateful_f *s, x, what):
+    """A float effect over float64 x: (first output, second output); the
+    first input the C refuses raises NonFiniteError naming its index."""
+    cdef cnp.ndarray[cnp.float64_t, ndim=1] xs = _f64(x)
+    cdef Py_ssize_t n = xs.shape[0], i = 0
+    cdef cnp.ndarray[cnp.float64_t, ndim=1] a = np.empty(n, dtype=np.float64)
+    cdef cnp.ndarray[cnp.float64_t, ndim=1] b = np.empty(n, dtype=np.float64)
+    cdef sig_status rc = 0
+    with nogil:
+        for i in range(n):
+            rc = _step_f(s, xs[i], &a[i], &b[i])
+            if rc < 0:
+                break
+    if rc < 0:
+        raise NonFiniteError(f"{what} at index {i}")
+    return a, b
+
+
 def lag_q(x, int alpha_q16, int frac, state=None):
     """sig_lag_step_q over int32 `x`.  Returns (out int32, status int16, state)."""
     cdef sig_lag_q s
@@ -108,13 +166,7 @@ def lag_q(x, int alpha_q16, int frac, state=None):
         raise RangeError(f"lag: alpha_q16={alpha_q16} (1..65536), frac={frac} (0..16) rejected")
     if state is not None:
         s.z, s.primed = state
-    cdef Py_ssize_t i
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] xs = _i32(x)
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(xs.shape[0], dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(xs.shape[0], dtype=np.int16)
-    with nogil:
-        for i in range(xs.shape[0]):
-            st[i] = sig_lag_step_q(&s, xs[i], &out[i])
+    out, _, st = _run_q(&s, x)
     return out, st, (int(s.z), bool(s.primed))
 
 
@@ -125,19 +177,7 @@ def lag_f(x, double alpha, state=None):
         raise RangeError(f"lag: alpha={alpha} outside (0, 1]")
     if state is not None:
         s.z, s.primed = state
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] xs = _f64(x)
-    cdef Py_ssize_t n = xs.shape[0], i
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] out = np.empty(n, dtype=np.float64)
-    cdef double y
-    cdef sig_status rc = 0
-    with nogil:
-        for i in range(n):
-            rc = sig_lag_step_f(&s, xs[i], &y)
-            if rc < 0:
-                break
-            out[i] = y
-    if rc < 0:
-        raise NonFiniteError(f"lag: non-finite input at index {i}")
+    out, _ = _run_f(&s, x, "lag: non-finite input")
     return out, (float(s.z), bool(s.primed))
 
 
@@ -169,21 +209,7 @@ def hyst_f(t, double width, double k, int start=0, state=None):
                          f"start={start} in -1, 0, 1")
     if state is not None:
         s.p, s.primed = state
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] ts = _f64(t)
-    cdef Py_ssize_t n = ts.shape[0], i
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] br = np.empty(n, dtype=np.float64)
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] c = np.empty(n, dtype=np.float64)
-    cdef double b, v
-    cdef sig_status rc = 0
-    with nogil:
-        for i in range(n):
-            rc = sig_hyst_step_f(&s, ts[i], &b, &v)
-            if rc < 0:
-                break
-            br[i] = b
-            c[i] = v
-    if rc < 0:
-        raise NonFiniteError(f"hysteresis: non-finite temperature at index {i}")
+    br, c = _run_f(&s, t, "hysteresis: non-finite temperature")
     return br, c, (float(s.p), bool(s.primed))
 
 
@@ -194,14 +220,7 @@ def creep_q(x, int alpha_q16, int frac, int k_q16, state=None):
         raise RangeError(f"creep: alpha_q16={alpha_q16} (1..65536), frac={frac} (0..16) rejected")
     if state is not None:
         s.lag.z, s.lag.primed = state
-    cdef Py_ssize_t i
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] xs = _i32(x)
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] c = np.zeros(xs.shape[0], dtype=np.int32)
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] y = np.zeros(xs.shape[0], dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(xs.shape[0], dtype=np.int16)
-    with nogil:
-        for i in range(xs.shape[0]):
-            st[i] = sig_creep_step_q(&s, xs[i], &c[i], &y[i])
+    c, y, st = _run_q(&s, x)
     return c, y, st, (int(s.lag.z), bool(s.lag.primed))
 
 
@@ -212,21 +231,7 @@ def creep_f(x, double alpha, double k, state=None):
         raise RangeError(f"creep: alpha={alpha} outside (0, 1] or k={k} not finite")
     if state is not None:
         s.lag.z, s.lag.primed = state
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] xs = _f64(x)
-    cdef Py_ssize_t n = xs.shape[0], i
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] c = np.empty(n, dtype=np.float64)
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] y = np.empty(n, dtype=np.float64)
-    cdef double a, b
-    cdef sig_status rc = 0
-    with nogil:
-        for i in range(n):
-            rc = sig_creep_step_f(&s, xs[i], &a, &b)
-            if rc < 0:
-                break
-            c[i] = a
-            y[i] = b
-    if rc < 0:
-        raise NonFiniteError(f"creep: non-finite input at index {i}")
+    c, y = _run_f(&s, x, "creep: non-finite input")
     return c, y, (float(s.lag.z), bool(s.lag.primed))
 
 

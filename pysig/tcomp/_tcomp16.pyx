@@ -119,10 +119,12 @@ cdef class Tcomp16Q:
 
     @property
     def n_axes(self):
+        """Axes in the model (1..3, SIG_TCOMP16_MAX_AXES)."""
         return self.m.n_axes
 
     @property
     def order(self):
+        """Polynomial order in temperature (SIG_TCOMP16_MIN_ORDER..SIG_TCOMP16_MAX_ORDER)."""
         return self.m.order
 
     def apply(self, temp, readings):

@@ -48,6 +48,25 @@ cdef _check_init(sig_status st, what):
         raise RangeError(f"{what}: parameters rejected by the C core (status {st})")
 
 
+def _stage_input(x, fixed, finite_note=None, code_range=False, q7=False):
+    """What a stage's process() loops over: (codes, floats, n), one of the
+    two arrays None.  The fixed form takes int32 ADC codes (clipped to the
+    24-bit input range with `code_range`; times 128 for a Q24.7 stage with
+    `q7`); the float form takes float64, checked finite when the stage
+    cannot take NaN or inf alone (`finite_note` says why, for the error)."""
+    if fixed:
+        codes = _codes(x)
+        if code_range:
+            codes = np.clip(codes, -_p.CODE_MAX, _p.CODE_MAX).astype(np.int32)
+        if q7:
+            codes = codes * np.int32(128)
+        return codes, None, codes.shape[0]
+    values = _as_float(x)
+    if finite_note is not None:
+        _finite_or_raise(values, finite_note)
+    return None, values, values.shape[0]
+
+
 def auto_params(fixed=False):
     """The default chain's parameters as the C core's constructors give them
     (sig_chain_params_auto_f / sig_chain_params_auto_q): a dict of the
@@ -71,8 +90,19 @@ def auto_params(fixed=False):
                 noise_auto=bool(pf.noise_auto))
 
 
+# ---- what every stage shares ------------------------------------------------
+cdef class _Stage:
+    """The numeric form (`fixed`) and one-sample stepping, shared by the
+    stages and the chain."""
+    cdef readonly bint fixed
+
+    def step(self, x):
+        """One sample through process(), the state carried on."""
+        return self.process(np.array([x], dtype=np.float64))[0]
+
+
 # ---- stage 1 ---------------------------------------------------------------
-cdef class LimitFilter:
+cdef class LimitFilter(_Stage):
     """Limit filter, the chain's first stage: a sample further than `a0`
     from the reference Dc is replaced by Dc.  Used alone, an accepted sample
     becomes Dc.
@@ -103,7 +133,6 @@ cdef class LimitFilter:
     """
     cdef sig_limit_f f
     cdef sig_limit_q q
-    cdef readonly bint fixed
     cdef readonly int status
 
     def __init__(self, a0, lockout_n=0, fixed=False):
@@ -118,24 +147,15 @@ cdef class LimitFilter:
     def reset(self):
         sig_limit_reset_q(&self.q) if self.fixed else sig_limit_reset_f(&self.f)
 
-    def step(self, x):
-        return self.process(np.array([x], dtype=np.float64))[0]
-
     def process(self, x, flags=False):
-        cdef cnp.ndarray[cnp.float64_t] out
+        cdef cnp.ndarray[cnp.float64_t] out, xf
         cdef cnp.ndarray[cnp.int16_t] stat
-        cdef cnp.ndarray[cnp.float64_t] xf
         cdef cnp.ndarray[cnp.int32_t] xq
         cdef Py_ssize_t i, n
         cdef sig_real y
         cdef int32_t yq
         cdef sig_status st = 0
-        if self.fixed:
-            xq = _codes(x)
-            n = xq.shape[0]
-        else:
-            xf = _as_float(x)
-            n = xf.shape[0]
+        xq, xf, n = _stage_input(x, self.fixed)
         out = np.empty(n)
         stat = np.empty(n, dtype=np.int16)
         with nogil:
@@ -165,7 +185,7 @@ cdef class LimitFilter:
 
 
 # ---- stage 2 ---------------------------------------------------------------
-cdef class AntiPulse:
+cdef class AntiPulse(_Stage):
     """Anti-pulse filter, the chain's second stage: the mean of the last
     `window` samples without one max and one min (while it fills: 1 sample
     -> itself, 2 -> their mean, k -> the trimmed mean of k).
@@ -189,7 +209,6 @@ cdef class AntiPulse:
     """
     cdef sig_antipulse_f f
     cdef sig_antipulse_q q
-    cdef readonly bint fixed
     cdef readonly int status
 
     def __init__(self, window=12, fixed=False):
@@ -204,24 +223,14 @@ cdef class AntiPulse:
     def reset(self):
         sig_antipulse_reset_q(&self.q) if self.fixed else sig_antipulse_reset_f(&self.f)
 
-    def step(self, x):
-        return self.process(np.array([x], dtype=np.float64))[0]
-
     def process(self, x):
-        cdef cnp.ndarray[cnp.float64_t] out
-        cdef cnp.ndarray[cnp.float64_t] xf
+        cdef cnp.ndarray[cnp.float64_t] out, xf
         cdef cnp.ndarray[cnp.int32_t] xq
         cdef Py_ssize_t i, n
         cdef sig_real y
         cdef int32_t yq
         cdef sig_status st = 0
-        if self.fixed:
-            xq = _codes(x)
-            n = xq.shape[0]
-        else:
-            xf = _as_float(x)
-            _finite_or_raise(xf, "the anti-pulse stage alone takes finite samples")
-            n = xf.shape[0]
+        xq, xf, n = _stage_input(x, self.fixed, "the anti-pulse stage alone takes finite samples")
         out = np.empty(n)
         with nogil:
             for i in range(n):
@@ -245,7 +254,7 @@ cdef class AntiPulse:
 
 
 # ---- stage 3 ---------------------------------------------------------------
-cdef class Kalman1:
+cdef class Kalman1(_Stage):
     """Scalar Kalman filter, A = H = 1, the chain's third stage.
 
     Parameters
@@ -275,7 +284,6 @@ cdef class Kalman1:
     """
     cdef sig_kalman1_f f
     cdef sig_kalman1_q q
-    cdef readonly bint fixed
     cdef readonly double R
 
     def __init__(self, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False, fixed=False):
@@ -295,23 +303,14 @@ cdef class Kalman1:
         """P back to P0, x kept (what the motion-aware chain does)."""
         sig_kalman1_restart_q(&self.q) if self.fixed else sig_kalman1_restart_f(&self.f)
 
-    def step(self, z):
-        return self.process(np.array([z], dtype=np.float64))[0]
-
     def process(self, z):
-        cdef cnp.ndarray[cnp.float64_t] out
-        cdef cnp.ndarray[cnp.float64_t] zf
+        cdef cnp.ndarray[cnp.float64_t] out, zf
         cdef cnp.ndarray[cnp.int32_t] zq
         cdef Py_ssize_t i, n
         cdef sig_real y
         cdef int32_t yq
-        if self.fixed:
-            zq = np.clip(_codes(z), -_p.CODE_MAX, _p.CODE_MAX).astype(np.int32) * np.int32(128)
-            n = zq.shape[0]
-        else:
-            zf = _as_float(z)
-            _finite_or_raise(zf, "the Kalman stage alone takes finite samples")
-            n = zf.shape[0]
+        zq, zf, n = _stage_input(z, self.fixed, "the Kalman stage alone takes finite samples",
+                                 code_range=True, q7=True)
         out = np.empty(n)
         with nogil:
             if self.fixed:
@@ -349,7 +348,7 @@ cdef class Kalman1:
 
 
 # ---- stage 4 ---------------------------------------------------------------
-cdef class StabilityDetector:
+cdef class StabilityDetector(_Stage):
     """Stability detector, the chain's last stage: stable once successive
     values have differed by at most `step` for `count` samples.
 
@@ -376,7 +375,6 @@ cdef class StabilityDetector:
     """
     cdef sig_stable_f f
     cdef sig_stable_q q
-    cdef readonly bint fixed
 
     def __init__(self, step=0.01, count=1, fixed=False):
         step_value, n = _p.stable_params(step, count, fixed)
@@ -423,7 +421,7 @@ cdef class StabilityDetector:
 
 
 # ---- the noise estimator ------------------------------------------------------
-cdef class NoiseEstimator:
+cdef class NoiseEstimator(_Stage):
     """The per-sample noise sigma measured on the fly (csrc/include/sig_noise.h):
     a quantile tracker on ``|x_k - x_{k-1}|`` that glitches and steps move by one
     small step only.  Fixed: samples are codes, sigma in codes (Q24.7 inside).
@@ -438,7 +436,6 @@ cdef class NoiseEstimator:
     """
     cdef sig_noise_f f
     cdef sig_noise_q q
-    cdef readonly bint fixed
 
     def __init__(self, fixed=False):
         self.fixed = fixed
@@ -449,17 +446,11 @@ cdef class NoiseEstimator:
 
     def process(self, x, update=None):
         """Samples (and optionally a per-sample update flag) -> sigma after each."""
-        cdef cnp.ndarray[cnp.float64_t] out
-        cdef cnp.ndarray[cnp.float64_t] xf
+        cdef cnp.ndarray[cnp.float64_t] out, xf
         cdef cnp.ndarray[cnp.int32_t] xq
         cdef cnp.ndarray[cnp.uint8_t] up
         cdef Py_ssize_t i, n
-        if self.fixed:
-            xq = np.clip(_codes(x), -_p.CODE_MAX, _p.CODE_MAX).astype(np.int32)
-            n = xq.shape[0]
-        else:
-            xf = _as_float(x)
-            n = xf.shape[0]
+        xq, xf, n = _stage_input(x, self.fixed, code_range=True)
         up = (np.ones(n, dtype=np.uint8) if update is None
               else np.ascontiguousarray(update, dtype=bool).ravel().view(np.uint8))
         if up.shape[0] != n:
@@ -489,7 +480,7 @@ cdef class NoiseEstimator:
 
 
 # ---- the chain ---------------------------------------------------------------
-cdef class Chain:
+cdef class Chain(_Stage):
     """limit -> anti-pulse -> Kalman -> stability (csrc/weigh/sig_chain.c).
 
     Parameters
@@ -525,7 +516,6 @@ cdef class Chain:
     """
     cdef sig_chain_f f
     cdef sig_chain_q q
-    cdef readonly bint fixed
     cdef readonly dict params
     cdef readonly int status
     cdef double R
@@ -621,12 +611,7 @@ cdef class Chain:
         cdef c_bool s = 0
         cdef sig_status st = 0
         cdef bint want = flags
-        if self.fixed:
-            xq = _codes(x)
-            n = xq.shape[0]
-        else:
-            xf = _as_float(x)
-            n = xf.shape[0]
+        xq, xf, n = _stage_input(x, self.fixed)
         out = np.empty(n)
         stable = np.empty(n, dtype=np.uint8)
         stat = np.empty(n if want else 1, dtype=np.int16)

@@ -487,6 +487,7 @@ class Chain:
         self.ramp, self.missed, self.paused, self.followed = False, False, False, False
         self.slope, self.last, self.prev_x, self.origin, self.pred = 0, 0, 0, 0, 0
         self.anchor, self.drift_age, self.drifting = 0, 0, True
+        self.trend_up, self.trend_dn, self.trending = 0, 0, False
         self._set_thresholds()
 
     def _set_thresholds(self):
@@ -643,6 +644,22 @@ class Chain:
             self.drifting = (min(abs(d), INT32_MAX) if self.fixed else abs(d)) > self.noise.sigma
             self.anchor, self.drift_age = xk, 0
 
+    def _trend(self, r):
+        """auto mode: two-sided CUSUM of the sample's residual r = y - output
+        with allowance sigma, both sums started again while the window
+        refills; `trending` while either is above 2 sigma (a load that has
+        begun to move by a few sigma per sample, before the motion test trips)."""
+        s = self.noise.sigma
+        if self.ap.count < self.ap.n:
+            self.trend_up, self.trend_dn, self.trending = 0, 0, False
+            return
+        if self.fixed:
+            up, dn, two = sat32(sat32(self.trend_up + r) - s), sat32(sat32(self.trend_dn - r) - s), sat32(s + s)
+        else:
+            up, dn, two = self.trend_up + r - s, self.trend_dn - r - s, s + s
+        self.trend_up, self.trend_dn = max(up, 0), max(dn, 0)
+        self.trending = self.trend_up > two or self.trend_dn > two
+
     def _backed(self, ret, y_k, m_k, xk):
         """auto mode: the stability detector's verdict counts only when the
         output is backed by the samples - none replaced, held, re-seeded or
@@ -650,10 +667,10 @@ class Chain:
         restart and no drift in the last block (_drift), no motion run under
         way, the sample within 3 sigma of the output and the window's trimmed
         mean within 1 sigma of it (a load that has begun to move, faster than
-        the output follows)."""
+        the output follows), and no trend (_trend)."""
         if ret & (WARN_REJECTED | LIMIT_RESEEDED | CHAIN_MOTION | CHAIN_RAMP):
             return False
-        if self.ap.count < self.ap.n or self.motion_run or self.drifting:
+        if self.ap.count < self.ap.n or self.motion_run or self.drifting or self.trending:
             return False
         d, e = self._diff(y_k, xk), self._diff(m_k, xk)
         if self.fixed:
@@ -703,10 +720,12 @@ class Chain:
             self.kf.reset()             # settling: the window's trimmed mean is the estimate
         xk = self.kf._step(m_k)
         self.settled = stab = self.st._step(xk)
+        y_k = y * 128 if self.fixed else y
         if self.noise_auto:
             self._drift(xk)
+            self._trend(self._diff(y_k, xk))
         if self.noise_auto and stab:
-            stab = self._backed(ret, y * 128 if self.fixed else y, m_k, xk)
+            stab = self._backed(ret, y_k, m_k, xk)
         if stab:
             if self.tare_pending:
                 self.offset_raw, self.tare_pending = xk, False

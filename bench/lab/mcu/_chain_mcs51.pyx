@@ -1,6 +1,6 @@
 # cython: language_level=3, boundscheck=False, wraparound=False
 """The 8051 form of the fixed weighing chain (csrc/port/mcs51/
-sig_chain_mcs51.c), compiled for the host: the bit-exactness tests run it
+sig_chain_mcs51.c, with the default chain: SIG_CHAIN_MCS51_AUTO), compiled for the host: the bit-exactness tests run it
 against the portable chain (pysig.weigh.Chain(fixed=True)) on the same
 samples.  The C keeps one chain at a fixed address, so this module holds one
 chain at a time (ChainMcs51.__init__ takes it over)."""
@@ -37,6 +37,7 @@ cdef extern from "sig_chain_mcs51.c":
     ctypedef struct sig_chain_mcs51_state:
         int32_t out
         bint stable
+        bint hot
     sig_chain_mcs51_state sig_chain_mcs51
     sig_status sig_chain_mcs51_gains(uint32_t q_q30, uint32_t p0_q16, uint32_t *table,
                                      uint16_t max, uint16_t *n)
@@ -63,6 +64,7 @@ cdef class ChainMcs51:
     pysig.weigh._presets.chain_fixed_params)."""
     cdef sig_chain_params_q p
     cdef readonly cnp.ndarray gains
+    cdef public object hot
 
     def __init__(self, fixed):
         self.p.a0 = fixed["a0"]; self.p.window = fixed["window"]
@@ -83,16 +85,22 @@ cdef class ChainMcs51:
                              "(sig_chain_mcs51_init rejected them)")
 
     def process(self, x):
-        """int32 codes -> (out_q7 int32, stable bool, status int16) per sample."""
+        """int32 codes -> (out_q7 int32, stable bool, status int16) per sample.
+        self.hot: per sample, whether the default chain's state was in the
+        port's own fields after it (the next step may take its steady-state
+        path; always False for fixed thresholds)."""
         cdef cnp.ndarray[cnp.int32_t] xs = np.ascontiguousarray(x, dtype=np.int32)
         cdef Py_ssize_t i, n = xs.shape[0]
         out = np.empty(n, np.int32)
         stable = np.empty(n, bool)
         status = np.empty(n, np.int16)
+        hot = np.empty(n, bool)
         cdef sig_status st
         for i in range(n):
             st = sig_chain_mcs51_step(xs[i])
             out[i] = sig_chain_mcs51.out
             stable[i] = sig_chain_mcs51.stable
             status[i] = st
+            hot[i] = sig_chain_mcs51.hot
+        self.hot = hot
         return out, stable, status

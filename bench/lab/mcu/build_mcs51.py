@@ -31,7 +31,9 @@ def mcs51_runtime(extra_flags=()) -> list[Path]:
     (_mullong.c, its small-stack-auto branch) and cached.  The bit-exact tests
     of the chain and compensation on s51 run through it."""
     flags = list(extra_flags)
-    if "--stack-auto" not in flags or "--xstack" in flags:
+    if "--xstack" in flags:
+        return _xstack_runtime(flags)
+    if "--stack-auto" not in flags:
         return []
     src = SDCC_LIB_SRC / "_mullong.c"
     if not src.exists():
@@ -47,6 +49,32 @@ def mcs51_runtime(extra_flags=()) -> list[Path]:
     if "warning" in text.lower() or "mul\tab" not in asm:
         raise McuError(f"sdcc did not build the assembly __mullong from {src}:\n{text}")
     return [rel]
+
+
+# sdcc ships no library for --stack-auto --xstack: the helpers a chain
+# build calls are compiled from sdcc's sources for that model (as
+# examples/firmware/mcs51/Makefile does; a helper with parameters taken
+# from large-stack-auto would read them from the wrong stack); the rest
+# (start-up assembly, no frames) links from large-stack-auto
+XSTACK_RT = ("_mullong", "_mulint", "_divulong", "_modulong", "_gptrget", "_gptrput", "_startup", "_bp", "_spx",
+             "bpx")
+XSTACK_LIB = Path("/usr/share/sdcc/lib/large-stack-auto")
+
+
+def _xstack_runtime(flags) -> list[Path]:
+    srcs = [SDCC_LIB_SRC / f"{m}.c" for m in XSTACK_RT]
+    missing = [s for s in srcs if not s.exists()]
+    if missing:
+        raise McuError(f"{missing[0]} missing (Debian package sdcc-libraries)")
+    out = BUILD_DIR / "mcs51-rt" / f"xstack-{file_key(srcs)}"
+    rels = [out / f"rt{s.stem}.rel" for s in srcs]
+    if all(r.exists() for r in rels):
+        return rels
+    out.mkdir(parents=True, exist_ok=True)
+    for s, r in zip(srcs, rels):
+        run_tool([tool("sdcc"), "-mmcs51", "--model-large", "--stack-auto", "--xstack", "--std-c99",
+                  "-c", s, "-o", r], cwd=out)
+    return rels
 
 
 MCS51_OBJ_OUTPUTS = (".rel", ".asm", ".lst", ".sym")
@@ -89,6 +117,7 @@ def build_mcs51(sources, harness, defines=(), *, name=None, include_dirs=(),
     assembly __mullong of mcs51_runtime() is added."""
     sdcc = tool("sdcc")
     extra_rels = [*extra_rels, *mcs51_runtime(extra_flags)]
+    lib_dirs = ["-L", str(XSTACK_LIB)] if "--xstack" in extra_flags else []
     sources = [Path(s).resolve() for s in sources]
     harness = Path(harness).resolve()
     dflags = define_flags(defines)
@@ -102,7 +131,7 @@ def build_mcs51(sources, harness, defines=(), *, name=None, include_dirs=(),
     rels = _mcs51_compile(sdcc, [harness, *sources], flags, outdir)
     ihx = outdir / f"{harness.stem}.ihx"
     for _ in range(4):      # add the csrc/*.c that define still-undefined symbols
-        out = run_tool([sdcc, *MCS51_CFLAGS, *extra_flags, *rels, *extra_rels, "-o", ihx], cwd=outdir,
+        out = run_tool([sdcc, *MCS51_CFLAGS, *extra_flags, *rels, *extra_rels, *lib_dirs, "-o", ihx], cwd=outdir,
                    check=False)
         extra = csrc_defining([n[1:] for n in re.findall(r"Undefined Global '(\w+)'", out)],
                                sources)

@@ -423,13 +423,30 @@ def table1b(vdd):
 
 # ------------------------------------------------------ 8051 chain port ---
 MCS51_PORT_FLAGS = []      # plain --model-large: the port's state is placed by hand
+# the default chain on the port: its non-steady steps are the portable chain
+# (csrc/weigh, also for the shared stage header); a fixed-only build
+MCS51_PORT_AUTO_DEFINES = {"SIG_CHAIN_MCS51_AUTO": "1", "SIG_NO_FLOAT": "1"}
+MCS51_PORT_AUTO_FLAGS = ["--stack-auto", "--xstack"]   # the portable chain's frames, in the pdata page (the port's state holds the internal RAM)
+
+
+def chain_mcs51_port_build(case, gains, gen, name):
+    """The port's harness build for a case: with the default chain's code
+    (MCS51_PORT_AUTO_DEFINES) when the case's preset measures its noise."""
+    auto = bool(case.fixed["noise_auto"])
+    vectors.write_chain_mcs51_header(case, gains, gen / "chain_vectors.h")
+    return runner.build_mcs51([CHAIN_MCS51] + (CHAIN_SRC if auto else []), HARNESS / "chain_mcs51_harness.c",
+                              MCS51_PORT_AUTO_DEFINES if auto else [],
+                              include_dirs=[gen, CHAIN_MCS51.parent] + ([CSRC / "weigh"] if auto else []),
+                              name=name, extra_flags=MCS51_PORT_AUTO_FLAGS if auto else MCS51_PORT_FLAGS)
 CHAIN_PORT_N = 700         # long enough for the Kalman gain to settle after the last restart
 
 
 def chain_row_mcs51_port(case=None) -> tuple:
     """The 8051 chain of csrc/port/mcs51 (sdcc --model-large, no
     --stack-auto: hot state in indirect RAM, window and configuration in
-    xdata, the gain table in code memory).  Bit for bit against the host C
+    xdata, the gain table in code memory; the default chain's build adds
+    --stack-auto --xstack for the portable step it runs off the steady
+    state, and its text_bytes include that portable chain).  Bit for bit against the host C
     of the portable chain on CHAIN_PORT_N samples (two load changes, impulses,
     a lock-out re-seed), then: the steady-state step (sample N+1, gain
     settled) and the motion-restart step, each counted entry to return."""
@@ -439,10 +456,7 @@ def chain_row_mcs51_port(case=None) -> tuple:
     gains = gain_table(case.fixed["q_q30"], case.fixed["p0_q16"])
     tag = ("" if case.preset == vectors.CHAIN_PRESET else f"-{case.preset}") + ("" if n == CHAIN_PORT_N else f"-n{n}")
     gen = runner.BUILD_DIR / "gen" / f"chain-mcs51{tag}"
-    vectors.write_chain_mcs51_header(case, gains, gen / "chain_vectors.h")
-    img = runner.build_mcs51([CHAIN_MCS51], HARNESS / "chain_mcs51_harness.c", [],
-                             include_dirs=[gen, CHAIN_MCS51.parent], name=f"chain-mcs51{tag}",
-                             extra_flags=MCS51_PORT_FLAGS)
+    img = chain_mcs51_port_build(case, gains, gen, f"chain-mcs51{tag}")
     steady, restart = "sig_chain_mcs51_step", "sig_chain_mcs51_step@restart_step"
     _, pre = vectors.chain_restart_plan(case)
     r = runner.measure(img, funcs=[steady, restart], regions=["bench_start:bench_stop"],
@@ -455,9 +469,12 @@ def chain_row_mcs51_port(case=None) -> tuple:
     IMAGES[("chain", "fixed", "mcs51-port" + tag)] = (img, r["funcs"][steady]["instructions"])
     one, rs = r["funcs"][steady], r["funcs"][restart]
     clos = runner.code_closure(img, "sig_chain_mcs51_step")
+    auto = bool(case.fixed["noise_auto"])
     state = {v: _mcs51_ds_size(img, "sig_chain_mcs51", v) for v in
-             ("sig_chain_mcs51", "sig_chain_mcs51_cfg", "sig_chain_mcs51_window")}
-    row = {"target": "8051 (s51 -t C52, sdcc --model-large, csrc/port/mcs51)", "form": "fixed_port",
+             ("sig_chain_mcs51", "sig_chain_mcs51_cfg", "sig_chain_mcs51_window")
+             + (("sig_chain_mcs51_auto",) if auto else ())}
+    flags = " ".join(["--model-large", *(MCS51_PORT_AUTO_FLAGS if auto else MCS51_PORT_FLAGS)])
+    row = {"target": f"8051 (s51 -t C52, sdcc {flags}, csrc/port/mcs51)", "form": "fixed_port",
            "preset": case.preset, "samples_before_timed_step": n,
            "status": "ok", "clocks_12T": one["cycles"], "instructions": one["instructions"],
            "clocks_12T_restart": rs["cycles"], "clocks_1T_estimate_restart": rs["clocks_1t_stc_y5"],
@@ -470,7 +487,8 @@ def chain_row_mcs51_port(case=None) -> tuple:
            "helper_bytes": sum(v for k, v in clos.items() if runner.is_helper(k)),
            "gain_table_bytes": 4 * len(gains), "gain_steps": len(gains),
            "state_bytes_idata": state["sig_chain_mcs51"],
-           "state_bytes_xdata": state["sig_chain_mcs51_cfg"] + state["sig_chain_mcs51_window"],
+           "state_bytes_xdata": sum(v for k, v in state.items() if k != "sig_chain_mcs51"),
+           "portable_fallback_bytes_xdata": state.get("sig_chain_mcs51_auto", 0),
            "stack_bytes": one["stack_bytes"],
            "max_sp_batch": hex(r["total"]["max_sp"]) if "max_sp" in r["total"] else None,
            "checked_samples": n, "ops": chain_ops("fixed")}
@@ -494,8 +512,9 @@ def estimator_cost(t2):
     """auto rows: their step (one call on the settled chain, and the batch
     average) over the same target's and form's recommended step - 1, set in
     place as auto_over_recommended and auto_over_recommended_batch."""
-    def key(r):
-        return (r["target"], r.get("multiplier"), r["form"], r.get("samples_before_timed_step"))
+    def key(r):     # the port's auto build adds flags to its target: the target up to them
+        return (r["target"].split(" (")[0] + ("port" if r["form"] == "fixed_port" else ""),
+                r.get("multiplier"), r["form"], r.get("samples_before_timed_step"))
     ref = {key(r): r for r in t2 if r.get("preset") == vectors.CHAIN_PRESET and r.get("status", "ok") == "ok"}
     for r in t2:
         base = ref.get(key(r))

@@ -195,17 +195,25 @@ def chain_restart_plan(case: ChainCase) -> tuple:
     """(sample, n_pre): a sample within A0 of the settled level but beyond
     the motion band; after the batch and one_x, n_pre copies of it are fed,
     and the next copy is the step on which the chain detects the motion and
-    restarts window and Kalman (found by running the portable chain)."""
+    restarts window and Kalman (found by running the portable chain).  For
+    fixed thresholds the sample is one_x + min(A0 - 1, 3 motion bands); the
+    default chain's thresholds follow the measured noise, so the smallest
+    offset from one_x (in steps of 8 codes) that restarts it is taken."""
     from pysig.weigh import Chain
     f = case.fixed
-    band = -(-f["motion_band_q7"] // 128)
-    x = int(case.one_x + min(f["a0"] - 1, 3 * band))
-    seq = np.r_[case.x, case.one_x, np.full(64, x)].astype(float)
-    _, _, st = Chain(case.preset, fixed=True).process(seq, flags=True)
-    hit = np.flatnonzero(st[len(case.x) + 1:] & 32)
-    if not len(hit):
-        raise ValueError("the restart sample never triggers the motion restart")
-    return x, int(hit[0])
+    if f["noise_auto"]:
+        offsets = range(8, 4096, 8)
+    else:
+        band = -(-f["motion_band_q7"] // 128)
+        offsets = [min(f["a0"] - 1, 3 * band)]
+    for d in offsets:
+        x = int(case.one_x + d)
+        seq = np.r_[case.x, case.one_x, np.full(64, x)].astype(float)
+        _, _, st = Chain(case.preset, fixed=True).process(seq, flags=True)
+        hit = np.flatnonzero(st[len(case.x) + 1:] & 32)
+        if len(hit):
+            return x, int(hit[0])
+    raise ValueError("the restart sample never triggers the motion restart")
 
 
 def write_chain_mcs51_header(case: ChainCase, gains: np.ndarray, path: Path) -> Path:

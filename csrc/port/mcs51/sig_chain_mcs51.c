@@ -3,6 +3,9 @@
  * compile the very same file); under sdcc the state sits in direct and
  * indirect RAM and the 16x16 products are MUL AB sequences. */
 #include "sig_chain_mcs51.h"
+#ifdef SIG_CHAIN_MCS51_AUTO
+#include "sig_chain_stages.h"    /* csrc/weigh: the portable chain's shared decisions */
+#endif
 
 SIG_MCS51_IDATA sig_chain_mcs51_state sig_chain_mcs51;
 SIG_MCS51_XDATA sig_chain_mcs51_config sig_chain_mcs51_cfg;
@@ -22,6 +25,8 @@ static SIG_MCS51_DATA uint16_t mul_a, mul_b;
 static SIG_MCS51_DATA uint32_t mul_r;
 
 #ifdef __SDCC
+/* A and B only: sdcc takes a naked function to leave R0-R7 alone, and with
+ * --stack-auto keeps values in them across the call */
 static void mul16(void) __naked
 {
     __asm
@@ -29,33 +34,33 @@ static void mul16(void) __naked
     mov b,_mul_b
     mul ab
     mov _mul_r,a
-    mov r2,b
+    mov (_mul_r + 1),b
     mov a,(_mul_a + 1)
     mov b,(_mul_b + 1)
     mul ab
-    mov r3,a
-    mov r4,b
+    mov (_mul_r + 2),a
+    mov (_mul_r + 3),b
     mov a,_mul_a
     mov b,(_mul_b + 1)
     mul ab
-    add a,r2
-    mov r2,a
+    add a,(_mul_r + 1)
+    mov (_mul_r + 1),a
     mov a,b
-    addc a,r3
-    mov r3,a
+    addc a,(_mul_r + 2)
+    mov (_mul_r + 2),a
     clr a
-    addc a,r4
-    mov r4,a
+    addc a,(_mul_r + 3)
+    mov (_mul_r + 3),a
     mov a,(_mul_a + 1)
     mov b,_mul_b
     mul ab
-    add a,r2
+    add a,(_mul_r + 1)
     mov (_mul_r + 1),a
     mov a,b
-    addc a,r3
+    addc a,(_mul_r + 2)
     mov (_mul_r + 2),a
     clr a
-    addc a,r4
+    addc a,(_mul_r + 3)
     mov (_mul_r + 3),a
     ret
     __endasm;
@@ -235,21 +240,27 @@ static int16_t window_step(int16_t y)
 }
 
 /* ---- init ------------------------------------------------------------------- */
-/* the checks of sig_chain_init_q (sig_chain.c), plus the port's own range
- * and the fixed thresholds it runs (noise_auto is not ported:
- * sig_chain_mcs51.h) */
+/* the checks of sig_chain_init_q (sig_chain.c), plus the port's own range;
+ * noise_auto only in a SIG_CHAIN_MCS51_AUTO build (sig_chain_mcs51.h) */
 static bool params_ok(const sig_chain_params_q *p)
 {
-    return !p->noise_auto && p->a0 > 0 && p->a0 <= SIG_CHAIN_MCS51_A0_MAX
+#ifndef SIG_CHAIN_MCS51_AUTO
+    if (p->noise_auto) return false;
+#endif
+    return p->a0 > 0 && p->a0 <= SIG_CHAIN_MCS51_A0_MAX
         && p->window >= 3u && p->window <= SIG_ANTIPULSE_MAX
         && p->q_q30 <= SIG_KALMAN1_Q_MAX && p->p0_q16 <= SIG_KALMAN1_P0_MAX
         && p->stable_step_q7 >= 0 && p->stable_count >= 1u
         && p->motion_band_q7 >= 0 && p->motion_count >= 1u
         && p->zero_band_q7 >= 0 && p->zero_rate_q7 >= 0
-        /* the portable chain's start rule (sig_chain.h); the measured noise
-         * is not a stage of this port: refused, not ignored */
-        && !p->noise_auto && (p->seed_first || p->p0_q16 >= (uint32_t)SIG_Q16_ONE);
+        /* the portable chain's start rule (sig_chain.h) */
+        && (p->seed_first || (!p->noise_auto && p->p0_q16 >= (uint32_t)SIG_Q16_ONE));
 }
+
+#ifdef SIG_CHAIN_MCS51_AUTO
+static sig_status tare_auto(void);
+static sig_status step_auto(int32_t x);
+#endif
 
 sig_status sig_chain_mcs51_init(const sig_chain_params_q *p,
                                 const SIG_MCS51_CODE uint32_t *gains, uint16_t n_gains) SIG_MCS51_REENTRANT
@@ -257,6 +268,10 @@ sig_status sig_chain_mcs51_init(const sig_chain_params_q *p,
     uint32_t e, lim, best = 0u;
     uint8_t k, d;
     if (p == NULL || !params_ok(p) || gains == NULL || n_gains == 0u) return SIG_ERR_ARG;
+#ifdef SIG_CHAIN_MCS51_AUTO
+    if (p->noise_auto && sig_chain_init_q(&sig_chain_mcs51_auto, p) != SIG_OK) return SIG_ERR_ARG;
+#endif
+    S.noise_auto = p->noise_auto;
     CFG.gains = gains;
     S.a0 = (int16_t)p->a0;
     S.n = p->window;
@@ -319,11 +334,18 @@ sig_status sig_chain_mcs51_reset(void)
     S.stable = false;
     S.has_out = false;
     update_small();
+    S.hot = false;
+#ifdef SIG_CHAIN_MCS51_AUTO
+    if (S.noise_auto) (void)sig_chain_reset_q(&sig_chain_mcs51_auto);
+#endif
     return SIG_OK;
 }
 
 sig_status sig_chain_mcs51_tare(void)
 {
+#ifdef SIG_CHAIN_MCS51_AUTO
+    if (S.noise_auto && !S.hot) return tare_auto();
+#endif
     if (S.has_out && S.stable) {
         S.offset = S.x;
         S.out = 0;
@@ -488,6 +510,80 @@ static sig_status step_general(int32_t x)
     return ret;
 }
 
+/* The steady state's limit, window and trimmed mean, shared by the fixed
+ * step and the default chain's (sig_chain_mcs51_step, step_auto): on x
+ * (codes), in the caller's locals t, y, dd, old, mx, mn, i, v, m, m7, innov,
+ * a (|innovation|); `general` is the caller's step for any other case,
+ * taken before anything has changed.  A macro: the 8051 pays for a call
+ * and its arguments more than for the text. */
+#define STEADY_MEAN(x, general) do {                                                        \
+        if ((x) > SIG_CODE_MAX || (x) < -SIG_CODE_MAX) return general(x);   /* clamped */    \
+        t = (x) - S.base;                                                                   \
+        if (t < -DEV_MAX || t > DEV_MAX) return general(x);                                 \
+        y = (int16_t)t;                                                                     \
+        dd = (int16_t)(y - S.dc);                                                           \
+        if (dd > S.a0 || dd < -S.a0) return general(x);                                     \
+        old = WIN[S.head];                                                                  \
+        mx = S.mx;                                                                          \
+        mn = S.mn;                                                                          \
+        if (old == mx || old == mn) {                                                       \
+            /* an extreme leaves the window: the extremes of the window with y in          \
+             * old's slot (the portable stage rescans the same values) */                  \
+            mx = mn = y;                                                                    \
+            for (i = 0u; i < S.n; i++) {                                                    \
+                if (i == S.head) continue;                                                  \
+                v = WIN[i];                                                                 \
+                if (v > mx) mx = v;                                                         \
+                if (v < mn) mn = v;                                                         \
+            }                                                                               \
+        } else {                                                                            \
+            if (y > mx) mx = y;                                                             \
+            if (y < mn) mn = y;                                                             \
+        }                                                                                   \
+        t = S.sum + (y - old);                /* int16 difference: both within +-DEV_MAX */ \
+        t = t - mx - mn + S.half;                                                           \
+        if (t >= 0) {                                                                       \
+            if (t > (int32_t)S.u_lim) return general(x);                                    \
+            mul_a = (uint16_t)t;                                                            \
+            mul_b = S.recip; mul16();                                                       \
+            m = (int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));      \
+        } else {                                                                            \
+            t = -t + (int32_t)(S.n - 3u);     /* floor(t / d) = -floor((-t + d - 1) / d) */ \
+            if (t > (int32_t)S.u_lim) return general(x);                                    \
+            mul_a = (uint16_t)t;                                                            \
+            mul_b = S.recip; mul16();                                                       \
+            m = (int16_t)-(int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u)); \
+        }                                                                                   \
+        m7 = S.base7 + (int32_t)m * 128;     /* sdcc: shifts, no 32x32 product */           \
+        innov = m7 - S.x;                     /* |m7|, |x| < 2^30 (S.small): exact */       \
+        if (innov <= -32768 || innov >= 32768) return general(x);                           \
+        a = (uint16_t)(innov < 0 ? -innov : innov);                                         \
+    } while (0)
+
+/* Then, once the step is sure: the limit (accepted: run cleared), the
+ * window, the motion run, Dc; the Kalman update x += K innov with the gain
+ * of this step from the table (|innov| K / 2^30 rounded half up, two 16x16
+ * products; locals u, inc). */
+#define STEADY_COMMIT() do {                                                                \
+        S.lock_run = 0u;                                                                    \
+        S.lock_side = 0;                                                                    \
+        WIN[S.head] = y;                                                                    \
+        if (++S.head >= S.n) S.head = 0u;                                                   \
+        S.mx = mx;                                                                          \
+        S.mn = mn;                                                                          \
+        S.sum += y - old;                                                                   \
+        S.motion_run = motion_run;                                                          \
+        S.dc = m;                                                                           \
+        if (S.gain_i < CFG.gain_n) S.k = CFG.gains[S.gain_i++];                             \
+        mul_a = a;                                                                          \
+        mul_b = (uint16_t)S.k; mul16();                                                     \
+        u = (uint16_t)((mul_r + Q30_HALF) >> 16);                                           \
+        mul_b = (uint16_t)(S.k >> 16); mul16();                                             \
+        inc = (int16_t)((mul_r + u) >> 14);    /* <= |innov| < 2^15 */                      \
+        if (innov < 0) inc = (int16_t)-inc;                                                 \
+        S.x += inc;                           /* between x and m7: |x| stays < 2^30 */      \
+    } while (0)
+
 /* One sample.  The common case runs here, in int16 where the values
  * allow: window full, the sample accepted and within the deviation range
  * (an evicted extreme costs a rescan of the window), the trimmed sum within
@@ -500,73 +596,18 @@ sig_status sig_chain_mcs51_step(int32_t x)
     int16_t y, old, mx, mn, m, inc, dd, v;
     uint16_t a, u;
     uint8_t motion_run = 0u, stab, i;
+#ifdef SIG_CHAIN_MCS51_AUTO
+    if (S.noise_auto) return step_auto(x);
+#endif
     if (S.count != S.n || !S.kf_seeded || !S.small) return step_general(x);
-    if (x > SIG_CODE_MAX || x < -SIG_CODE_MAX) return step_general(x);   /* clamped: the general step */
-    t = x - S.base;
-    if (t < -DEV_MAX || t > DEV_MAX) return step_general(x);
-    y = (int16_t)t;
-    dd = (int16_t)(y - S.dc);
-    if (dd > S.a0 || dd < -S.a0) return step_general(x);
-    old = WIN[S.head];
-    mx = S.mx;
-    mn = S.mn;
-    if (old == mx || old == mn) {
-        /* an extreme leaves the window: the extremes of the window with y in
-         * old's slot (the portable stage rescans the same values) */
-        mx = mn = y;
-        for (i = 0u; i < S.n; i++) {
-            if (i == S.head) continue;
-            v = WIN[i];
-            if (v > mx) mx = v;
-            if (v < mn) mn = v;
-        }
-    } else {
-        if (y > mx) mx = y;
-        if (y < mn) mn = y;
-    }
-    t = S.sum + (y - old);                /* int16 difference: both within +-DEV_MAX */
-    t = t - mx - mn + S.half;
-    if (t >= 0) {
-        if (t > (int32_t)S.u_lim) return step_general(x);
-        mul_a = (uint16_t)t;
-        mul_b = S.recip; mul16();
-        m = (int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));
-    } else {
-        t = -t + (int32_t)(S.n - 3u);     /* floor(t / d) = -floor((-t + d - 1) / d) */
-        if (t > (int32_t)S.u_lim) return step_general(x);
-        mul_a = (uint16_t)t;
-        mul_b = S.recip; mul16();
-        m = (int16_t)-(int16_t)((uint16_t)(mul_r >> 16) >> (uint8_t)(S.recip_shift - 16u));
-    }
-    m7 = S.base7 + (int32_t)m * 128;     /* sdcc: shifts, no 32x32 product */
-    innov = m7 - S.x;                     /* |m7|, |x| < 2^30 (S.small): exact */
-    if (innov <= -32768 || innov >= 32768) return step_general(x);
-    a = (uint16_t)(innov < 0 ? -innov : innov);
+    STEADY_MEAN(x, step_general);
     if (S.motion_band > 0) {
         if ((int16_t)a > S.motion_band16) {
             motion_run = (uint8_t)(S.motion_run + 1u);
             if (motion_run >= S.motion_count) return step_general(x);
         }
     }
-    /* commit: limit, window */
-    S.lock_run = 0u;
-    S.lock_side = 0;
-    WIN[S.head] = y;
-    if (++S.head >= S.n) S.head = 0u;
-    S.mx = mx;
-    S.mn = mn;
-    S.sum += y - old;
-    S.motion_run = motion_run;
-    S.dc = m;
-    /* Kalman: |innov| K / 2^30 rounded half up, two 16x16 products */
-    if (S.gain_i < CFG.gain_n) S.k = CFG.gains[S.gain_i++];
-    mul_a = a;
-    mul_b = (uint16_t)S.k; mul16();
-    u = (uint16_t)((mul_r + Q30_HALF) >> 16);
-    mul_b = (uint16_t)(S.k >> 16); mul16();
-    inc = (int16_t)((mul_r + u) >> 14);    /* <= |innov| < 2^15 */
-    if (innov < 0) inc = (int16_t)-inc;
-    S.x += inc;                           /* between x and m7: |x| stays < 2^30 */
+    STEADY_COMMIT();
     /* stability */
     if ((inc < 0 ? -inc : inc) <= S.stable_step16) {
         if (S.stable_run < 255u) S.stable_run++;
@@ -594,3 +635,178 @@ sig_status sig_chain_mcs51_step(int32_t x)
     S.out = t;
     return SIG_OK;
 }
+
+#ifdef SIG_CHAIN_MCS51_AUTO
+/* ---- the default chain (noise_auto; sig_chain_mcs51.h) ----------------------- */
+SIG_MCS51_XDATA sig_chain_q sig_chain_mcs51_auto;
+#define A sig_chain_mcs51_auto
+
+static int16_t clamp16(int32_t v)
+{
+    return v > INT16_MAX ? INT16_MAX : (int16_t)v;      /* v >= 0 */
+}
+
+/* the int16 copies of the thresholds the steady state tests */
+static void mirror_thresholds(void)
+{
+    S.a0 = clamp16(A.limit.a0);
+    S.motion_band16 = clamp16(A.motion_band);
+    S.stable_step16 = clamp16(A.st.step);
+}
+
+/* The hot fields into the portable struct (the window is full while hot).
+ * The Kalman's phase and y after gain_i steps since a restart are those of
+ * the run that made the gain table (sig_chain_mcs51_gains): phase 1 after
+ * one step, 2 until the table's last entry, then 3. */
+static void hot_to_portable(void)
+{
+    uint8_t i;
+    int32_t sum = 0, v;
+    A.limit.dc = S.base + S.dc;
+    A.limit.t.run = S.lock_run;
+    A.limit.t.side = S.lock_side;
+    A.limit.t.seeded = S.seeded;
+    for (i = 0u; i < S.n; i++) {
+        v = S.base + WIN[i];
+        A.ap.buf[i] = v;
+        sum += v;
+    }
+    A.ap.sum = sum;
+    A.ap.mx = S.base + S.mx;
+    A.ap.mn = S.base + S.mn;
+    A.ap.count = S.count;
+    A.ap.head = S.head;
+    A.kf.x = S.x;
+    A.kf.seeded = S.kf_seeded;
+    A.kf.phase = S.gain_i == 0u ? 0u : S.gain_i == 1u ? 1u : S.gain_i >= CFG.gain_n ? 3u : 2u;
+    A.kf.y = UINT32_C(1073741824) - (S.gain_i == 0u ? 0u : CFG.gains[S.gain_i - 1u]);   /* Q30 */
+    A.st.prev = S.x;
+    A.st.run = S.stable_run;
+    A.st.has_prev = S.has_prev;
+    A.offset = S.offset;
+    A.out = S.out;
+    A.motion_run = S.motion_run;
+    A.tare_pending = S.tare_pending;
+    A.stable = S.stable;
+    A.has_out = S.has_out;
+    S.hot = false;
+}
+
+/* Back into the hot fields when the next step may be the steady state:
+ * window full, settled, no ramp, and the window held as int16 deviations
+ * around Dc (its trimmed mean); otherwise the portable struct keeps the
+ * chain. */
+static void portable_to_hot(void) SIG_MCS51_REENTRANT
+{
+    uint8_t i;
+    int32_t base = A.limit.dc, v, sum = 0;
+    if (A.ap.count != A.ap.n || !A.settled || A.ramp || !A.kf.seeded || S.gain_i == 0u
+        || A.st.prev != A.kf.x)
+        return;
+    for (i = 0u; i < A.ap.n; i++) {
+        v = A.ap.buf[i] - base;
+        if (v > DEV_MAX || v < -DEV_MAX) return;
+    }
+    for (i = 0u; i < A.ap.n; i++) {
+        v = A.ap.buf[i] - base;
+        WIN[i] = (int16_t)v;
+        sum += v;
+    }
+    S.base = base;
+    S.base7 = codes_to_q7(base);
+    S.dc = 0;
+    S.sum = sum;
+    S.mx = (int16_t)(A.ap.mx - base);
+    S.mn = (int16_t)(A.ap.mn - base);
+    S.count = A.ap.count;
+    S.head = A.ap.head;
+    S.seeded = A.limit.t.seeded;
+    S.lock_run = A.limit.t.run;
+    S.lock_side = A.limit.t.side;
+    S.x = A.kf.x;
+    S.kf_seeded = true;
+    S.k = CFG.gains[S.gain_i - 1u];
+    S.stable_run = A.st.run;
+    S.has_prev = A.st.has_prev;
+    S.offset = A.offset;
+    S.motion_run = A.motion_run;
+    S.tare_pending = A.tare_pending;
+    mirror_thresholds();
+    update_small();
+    S.hot = true;
+}
+
+/* Any step but the steady state: the portable chain itself. */
+static sig_status step_portable(int32_t x)
+{
+    sig_status ret;
+    int32_t out;
+    bool stab;
+    if (S.hot) hot_to_portable();
+    ret = sig_chain_step_q(&A, x, &out, &stab);
+    /* steps since the Kalman's last restart (phase 1: this step restarted it) */
+    if (A.kf.phase == 1u) S.gain_i = 1u;
+    else if (A.kf.phase == 3u || S.gain_i >= CFG.gain_n) S.gain_i = CFG.gain_n;
+    else S.gain_i++;
+    S.out = out;
+    S.stable = stab;
+    S.has_out = true;
+    portable_to_hot();
+    return ret;
+}
+
+static sig_status tare_auto(void)
+{
+    sig_status st = sig_chain_tare_q(&A);
+    S.offset = A.offset;
+    S.out = A.out;
+    S.tare_pending = A.tare_pending;
+    return st;
+}
+
+/* The steady state of sig_chain_step_q on the hot fields: the limit accepts
+ * the sample (no ramp under way: the follower passes), the window and the
+ * Kalman as in the fixed steady state, the motion run below its count, no
+ * settling re-seed (the window is full and the last step was settled).
+ * Anything else, before anything has changed, runs the portable step. */
+static sig_status step_auto(int32_t x)
+{
+    int32_t t, m7, innov, xk;
+    int16_t y, old, mx, mn, m, inc, dd, v;
+    uint16_t a, u;
+    uint8_t motion_run, i;
+    bool stab, update;
+    sig_status ret = SIG_OK;
+    if (!S.hot || !S.small || !A.settled) return step_portable(x);
+    STEADY_MEAN(x, step_portable);
+    motion_run = S.motion_run;            /* a restart is the portable step's */
+    if (sig_chain_motion((int16_t)a > S.motion_band16, &motion_run, S.motion_count))
+        return step_portable(x);
+    STEADY_COMMIT();
+    A.prev_x = x;                         /* the ramp follower's last sample */
+    xk = S.x;
+    /* the stability detector, its verdict backed by the samples */
+    S.stable_run = SIG_RUN_NEXT(S.stable_run, (inc < 0 ? -inc : inc) <= S.stable_step16);
+    stab = S.stable_run >= S.stable_count;
+    A.settled = stab;
+    if (sig_chain_drift_due(false, &A.drift_age, S.n, &A.drifting)) {
+        A.drifting = sig_abs32_sat(sig_sat_sub32(xk, A.anchor)) > A.noise.sigma;
+        A.anchor = xk;
+    }
+    if (stab)
+        stab = sig_chain_backed(ret, S.count, S.n, motion_run, A.drifting,
+                                sig_abs32_sat(S.base7 + (int32_t)y * 128 - xk) <= A.near_band
+                                && sig_abs32_sat(m7 - xk) <= A.noise.sigma);
+    if (stab && sig_chain_offset_q(xk, &S.offset, &S.tare_pending, A.zero_band, A.zero_rate))
+        ret = (sig_status)(ret | SIG_CHAIN_TARED);
+    S.out = xk - S.offset;                /* |x|, |offset| < 2^30 */
+    S.stable = stab;
+    /* the noise estimate, its gate and the thresholds */
+    SIG_CHAIN_NOISE_GATE(A.gate, ret, S.n, S.motion_run, A.noise.count, update);
+    (void)sig_noise_step_q(&A.noise, x, update);
+    SIG_CHAIN_THRESHOLDS_Q(A.noise.sigma, A.noise.count == 0u, A.limit.a0, A.motion_band,
+                           A.st.step, A.zero_band, A.zero_rate, A.near_band);
+    mirror_thresholds();
+    return A.noise.sigma <= SIG_NOISE_FLOOR_Q7 ? (sig_status)(ret | SIG_CHAIN_NOISE_FLOOR) : ret;
+}
+#endif /* SIG_CHAIN_MCS51_AUTO */

@@ -33,14 +33,27 @@
  * so init accepts A0 <= 8191 codes (a quarter of the int16 range; the
  * bit-exactness tests draw A0 up to it).
  *
- * Fixed thresholds only: the default chain (noise_auto: the noise measured
- * on the fly, every threshold following it, the ramp follower and the
- * backing of `stable`; sig_chain.h) is not ported, and init refuses it
- * with SIG_ERR_ARG.  An 8051 node runs the default on the portable chain
- * (sig_chain_step_q; examples/firmware does).  A further stage fits as one
- * more block in sig_chain_mcs51_step, with its state as more fields of
- * sig_chain_mcs51_state; on the host its bit-exactness is checked by the
- * same test against the portable chain. */
+ * The default chain (noise_auto: the noise measured on the fly, every
+ * threshold following it, the ramp follower, impulses and motion counted
+ * apart, `stable` only when backed by the samples; sig_chain.h) runs when
+ * the port is compiled with SIG_CHAIN_MCS51_AUTO (and -I csrc/weigh for the
+ * shared stage code); without it init refuses noise_auto with SIG_ERR_ARG,
+ * so fixed-threshold firmware links none of the portable chain.  Its state
+ * is a portable sig_chain_q in xdata (sig_chain_mcs51_auto): every step that
+ * is not the steady state (window filling or restarting, the output not yet
+ * settled, a sample rejected, re-seeded or out of the int16 deviations, a
+ * ramp, a motion restart) runs the portable sig_chain_step_q on it, so any
+ * rule of the portable chain reaches the port by itself.  The steady state
+ * (settled, window full, the sample accepted, no ramp, no motion restart)
+ * runs here on the deviation window and the gain table, with the portable
+ * chain's decisions taken from the shared stage code (sig_chain_stages.h:
+ * drift blocks, backing of `stable`, tare and zero tracking, the motion
+ * run; sig_chain_noise.h: the noise gate and the thresholds; sig_noise.c:
+ * the estimator), and the noise estimate, gate and thresholds kept in the
+ * portable struct.  The port's hot fields are copied into the portable
+ * struct before a portable step and back after it when the next step may be
+ * the steady state (`hot`).  A window that cannot be held as int16
+ * deviations stays with the portable step: no range error in this mode. */
 #ifndef SIG_CHAIN_MCS51_H
 #define SIG_CHAIN_MCS51_H
 
@@ -88,6 +101,8 @@ typedef struct {
     uint8_t stable_count, stable_run;
     bool seeded, kf_seeded, has_prev, tare_pending, stable, has_out;
     bool small;             /* |x|, |offset| < 2^30, |base7| < 2^30 - 2^22: the fast path's range */
+    bool noise_auto;        /* the default chain (SIG_CHAIN_MCS51_AUTO builds) */
+    bool hot;               /* noise_auto: these fields hold the chain (else sig_chain_mcs51_auto does) */
 } sig_chain_mcs51_state;
 
 /* what the steady state does not touch (xdata) */
@@ -103,6 +118,10 @@ typedef struct {
 extern SIG_MCS51_IDATA sig_chain_mcs51_state sig_chain_mcs51;
 extern SIG_MCS51_XDATA sig_chain_mcs51_config sig_chain_mcs51_cfg;
 extern SIG_MCS51_XDATA int16_t sig_chain_mcs51_window[SIG_ANTIPULSE_MAX];
+#ifdef SIG_CHAIN_MCS51_AUTO
+/* noise_auto: the portable chain's state (above) */
+extern SIG_MCS51_XDATA sig_chain_q sig_chain_mcs51_auto;
+#endif
 /* The gain sequence of the fixed Kalman (q_q30, p0_q16 as sig_kalman1_init_q)
  * from a (re)start to its steady value, by the portable sig_kalman1: run
  * once on the host (its table goes into the firmware's code memory) or at
@@ -116,8 +135,8 @@ sig_status sig_chain_mcs51_gains(uint32_t q_q30, uint32_t p0_q16, uint32_t *tabl
 /* Initialise the chain from p (as sig_chain_init_q) and the gain table of
  * sig_chain_mcs51_gains for the same q, p0 (kept by address, not copied).
  * SIG_ERR_ARG (nothing changed) for parameters sig_chain_init_q rejects,
- * A0 above SIG_CHAIN_MCS51_A0_MAX, noise_auto (not ported), a NULL
- * table or n_gains == 0. */
+ * A0 above SIG_CHAIN_MCS51_A0_MAX, noise_auto in a build without
+ * SIG_CHAIN_MCS51_AUTO, a NULL table or n_gains == 0. */
 sig_status sig_chain_mcs51_init(const sig_chain_params_q *p,
                                 const SIG_MCS51_CODE uint32_t *gains, uint16_t n_gains) SIG_MCS51_REENTRANT;
 sig_status sig_chain_mcs51_reset(void);
