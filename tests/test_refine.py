@@ -9,8 +9,8 @@ import pytest
 from pysig.refine import _effect_models as fx
 from pysig.errors import InsufficientDataError
 from pysig.refine import Options, refine
-from pysig.refine._cross_validation import cv_residual, fold_rows, rms
-from pysig.refine._stopping import at_search_edge, improvement_p
+from pysig.refine._cross_validation import cv_residual, fit_rows, fold_rows, rms, unseen_columns
+from pysig.refine._stopping import at_search_edge, decorrelation_window, improvement_p
 
 from lab.studies.refine_cases import EFFECTS, chamber_run, fit_data
 
@@ -111,6 +111,40 @@ def test_improvement_p_is_one_sided():
     e = rng.standard_normal(2000)
     assert improvement_p(e, e * 0.5, 20) < 1e-4
     assert improvement_p(e * 0.5, e, 20) > 0.5
+
+
+def test_hac_window_follows_the_residual():
+    """White residual: a window of a few samples; a random walk: the cap."""
+    rng = np.random.default_rng(1)
+    white = rng.standard_normal(4000)
+    assert decorrelation_window(white, 800) <= 10
+    assert decorrelation_window(np.cumsum(white), 800) == 800
+
+
+def test_a_large_gain_confined_to_the_record_start_is_significant():
+    """A gain in the first 4 % of a record (a warm-up) against white noise:
+    a fixed window of n/20 counted its shape as noise (p = 0.13 here)."""
+    rng = np.random.default_rng(2)
+    n = 3000
+    e_new = rng.standard_normal(n)
+    e_old = e_new + np.where(np.arange(n) < 120, 4.0 * np.exp(-np.arange(n) / 60.0), 0.0)
+    assert improvement_p(e_old, e_new, 5) < 1e-3
+    # the same gain against a wandering residual is not evidence
+    walk = np.cumsum(rng.standard_normal(n)) * 0.2
+    assert improvement_p(e_old + walk, e_new + walk, 5) > improvement_p(e_old, e_new, 5)
+
+
+def test_a_column_the_training_rows_do_not_see_is_not_extrapolated():
+    """A fast transient at the record start, its start held out: its
+    coefficient stays 0 in that fold instead of extrapolating noise."""
+    n = 400
+    t = np.arange(n, dtype=float)
+    X = np.column_stack([np.ones(n), np.exp(-t / 5.0)])
+    rows = t >= 100
+    assert list(unseen_columns(X, rows, ["const", "warm_up:exp"])) == [False, True]
+    y = np.random.default_rng(3).standard_normal(n)
+    beta, _ = fit_rows(X, y, rows, ["const", "warm_up:exp"])
+    assert beta[1] == 0.0
 
 
 def test_too_few_samples_is_a_named_error():

@@ -9,6 +9,7 @@ import pytest
 from pysig.refine import FitData, device_model, refine
 from pysig.refine import _effect_models as fx
 
+from lab.studies import overlap_cases
 from lab.studies.overlap_cases import (judge_case, options_for, overlap_case, plate_resistor_case,
                                        roaming_instrument_case)
 
@@ -111,3 +112,33 @@ def test_drift_is_unavailable_when_temperature_ranks_with_time():
     assert "moves with time" in fx.FAMILIES["drift"].unavailable(FitData(y=T.copy(), t=t, T=T))
     T2 = 20.0 + 15.0 * np.sin(t / 20.0)
     assert fx.FAMILIES["drift"].unavailable(FitData(y=T2.copy(), t=t, T=T2)) is None
+
+
+def test_warm_up_under_a_lag_is_found_without_a_rider():
+    """A single power-on's warm-up under a lag: found, and no hysteresis
+    rides along on its gain (each member of a pair must carry part of it)."""
+    _, truth, data = overlap_case("warm_up+thermal_lag", seed=0, noise=0.5, dt=10.0, length_s=12 * 3600.0)
+    j = judge_case(truth, refine(data))
+    assert j["found"] == ["thermal_lag", "warm_up"], j
+    assert all(j["params_within_50pct"].values()), j
+
+
+def test_warm_up_slower_than_the_drift_resolves_is_a_drift():
+    """A settling of a fifth of the record is followed by a 5-knot drift:
+    it is not named warm-up (the warm-up's range ends where it settles
+    within the drift's first knot interval).  (What the 5-knot drift leaves
+    of this settling can still be taken by a wide hysteresis: the bench
+    table counts that as a false claim.)"""
+    _, truth, data = overlap_case("drift", seed=7, noise=0.5, dt=2.0, unit=overlap_cases.UNITS[1])
+    assert fx.FAMILIES["warm_up"].limit(data) == pytest.approx(data.span_t / 8.0)
+    rep = refine(data).report()
+    assert "warm_up" not in rep["effects_found"], rep["steps"]
+    assert rep["drift"] is not None
+
+
+def test_drift_knots_are_chosen_again_with_the_effect_in():
+    """The drift taken first bends to imitate part of a wide hysteresis;
+    with its knots chosen again the hysteresis is found."""
+    _, truth, data = roaming_instrument_case(seed=1)
+    j = judge_case(truth, refine(data, options_for(truth)))
+    assert j["named_right"] and all(j["params_within_50pct"].values()), j

@@ -38,25 +38,47 @@ def bridge_rows(X_train, names):
     return rows, np.zeros(len(weak))
 
 
+UNSEEN_NORM = 1e-2     # a column with under 1e-4 of its energy on the training rows
+
+
+def unseen_columns(X, rows, names):
+    """Columns the training rows do not determine: their norm there is
+    under UNSEEN_NORM of their norm on the whole record (a warm-up of a
+    short time constant when its start is held out).  Fitted, such a column
+    takes a coefficient of the noise over its tiny training norm and
+    extrapolates it into the held-out rows; it is left out instead (its
+    coefficient 0: the fold predicts as if the effect were absent).  Table
+    knots are not among them: bridge_rows ties those to their neighbours."""
+    full = np.linalg.norm(X, axis=0)
+    unseen = np.linalg.norm(X[rows], axis=0) < UNSEEN_NORM * full
+    return unseen & ~np.array([nm.startswith(fx.TABLE_PREFIX) for nm in names])
+
+
 def fit_rows(X, y, rows, names):
-    """Least squares of X[rows] on y[rows], table knots bridged (bridge_rows)."""
-    Xt, yt = X[rows], y[rows]
-    extra = bridge_rows(Xt, names)
+    """Least squares of X[rows] on y[rows], table knots bridged (bridge_rows),
+    columns the rows do not determine left at 0 (unseen_columns)."""
+    keep = ~unseen_columns(X, rows, names)
+    Xt, yt = X[rows][:, keep], y[rows]
+    extra = bridge_rows(Xt, [nm for nm, k in zip(names, keep) if k])
     if extra is not None:
         Xt, yt = np.vstack([Xt, extra[0]]), np.concatenate([yt, extra[1]])
-    return fit_linear_model(Xt, yt, what="refine cv")
+    beta = np.zeros(X.shape[1])
+    beta[keep], _ = fit_linear_model(Xt, yt, what="refine cv")
+    return beta, None
 
 
 def cv_residual(data, spec, opts, candidate=None):
-    """Out-of-sample residual of `spec` (+ `candidate`, a (family, variant)
-    or (family, variant, grid top) whose nonlinear parameter is chosen per
-    fold on the training rows).
+    """Out-of-sample residual of `spec` (+ `candidate`, a (family, variant),
+    (family, variant, grid top) or (family, variant, grid top, full-data
+    fit) whose nonlinear parameter is chosen per fold on the training rows
+    among Family.fold_grid).
     NaN where the sample is masked out."""
     gap = opts.gap if opts.gap is not None else max(1, data.n // (4 * opts.folds))
-    specs = [spec]
+    specs, params, center = [spec], [None], None
     if candidate is not None:
-        fam, variant, top = (*candidate, None)[:3]
-        specs = [spec.with_effect(fx.Effect(fam.name, variant, p)) for p in fam.grid(data, top)]
+        fam, variant, top, center = (*candidate, None, None)[:4]
+        params = fam.fold_grid(data, top, center)
+        specs = [spec.with_effect(fx.Effect(fam.name, variant, p)) for p in params]
     designs = [fx.design(data, s) for s in specs]
     e = np.full(data.n, np.nan)
     for train, test in fold_rows(data.n, opts.folds, gap):
@@ -68,16 +90,31 @@ def cv_residual(data, spec, opts, candidate=None):
             raise InsufficientDataError(
                 f"refine: a cross-validation fold keeps {int(tr.sum())} training samples for "
                 f"{designs[0][0].shape[1]} parameters; use fewer folds or more data")
-        best = None
+        fits = []
         for X, names in designs:
             beta, _ = fit_rows(X, data.y, tr, names)
             res = data.y[tr] - X[tr] @ beta
-            sse = float(res @ res)
-            if best is None or sse < best[0]:
-                best = (sse, X, beta)
-        _, X, beta = best
+            fits.append((float(res @ res), X, beta))
+        _, X, beta = fits[fold_choice([f[0] for f in fits], params, center, int(tr.sum()),
+                                      designs[0][0].shape[1] + 1)]
         e[te] = data.y[te] - X[te] @ beta
     return e
+
+
+def fold_choice(sse, params, center, n_train, n_coef):
+    """Index of the parameter a fold takes: the least training SSE, unless
+    the training rows cannot tell it from others (SSE within one residual
+    variance of the least, what one fitted parameter moves by chance); then,
+    among those, the one nearest the full-data fit `center` (in log).  A
+    fold that holds out the start of a warm-up sees only its tail, whose SSE
+    is flat in the time constant: the least SSE is then a coin toss that
+    decides how the held-out start is extrapolated."""
+    i = int(np.argmin(sse))
+    if center is None or params[i] is None:
+        return i
+    tie = sse[i] + sse[i] / max(1, n_train - n_coef)
+    near = [k for k, v in enumerate(sse) if v <= tie]
+    return min(near, key=lambda k: abs(np.log(params[k] / center)))
 
 
 def rms(e):

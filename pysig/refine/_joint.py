@@ -4,7 +4,15 @@ lag fitted without the drift bends to imitate it.  When the best single
 candidate fails the stopping rule, pairs of the best candidates are fitted
 jointly (both nonlinear
 parameters re-polished together) and the pair is judged by the same rule,
-its Bonferroni count including the pairs.
+its Bonferroni count including the pairs.  A pair is claimed only when
+each member carries a material part of its gain: the pair, that member's
+parameter chosen inside each fold, must lower the systematic error of a
+reading by the rule's relative and material margins against the pair
+without that member (the other held at the joint fit).  Otherwise a member
+that helps nothing rides along on its partner's gain (a hysteresis next to
+a warm-up).  Significance is the pair's, tested once against the current
+model: two overlapping effects share their evidence, so each alone on top
+of the other has less of it than the pair.
 
 Once the loop stops, each effect's share of the systematic error removed:
 the out-of-sample systematic error of the final model without that effect
@@ -18,16 +26,17 @@ from . import _effect_models as fx
 from . import _robust as robust
 from ._base_model import repolish
 from ._cross_validation import cv_residual, rms
+from ._stopping import judge, material
 
 MAX_PAIR_MEMBERS = 3       # pairs among the three best helpful candidates
 
 
 def candidate_of(data, spec, name, variant):
-    """(family, variant, grid top) to let cross-validation choose `name`'s
-    parameter per fold, given its full-data fit in `spec`."""
+    """(family, variant, grid top, full-data fit) to let cross-validation
+    choose `name`'s parameter per fold, given its full-data fit in `spec`."""
     fam = fx.FAMILIES[name]
     eff = next(e for e in spec.effects if e.name == name)
-    return fam, variant, fx.grid_top(fam, data, eff.param)
+    return fam, variant, fx.grid_top(fam, data, eff.param), eff.param
 
 
 def pair_trials(data, model, tried, opts, admissible):
@@ -57,6 +66,55 @@ def pair_trials(data, model, tried, opts, admissible):
                 e = cv_residual(data, joint.spec.without(b), opts, candidate_of(data, joint.spec, b, vb))
                 out.append((rms(e), (a, b), (va, vb), e, joint))
     return out
+
+
+def redrift_trials(data, model, tried, opts, admissible):
+    """When the model holds a drift: the best MAX_PAIR_MEMBERS physical
+    candidates in `tried`, each with the drift's knots chosen again.  The
+    drift's knots were chosen before the newcomer was in, when the drift
+    bent to imitate part of it; with those knots the newcomer looks weak
+    (a hysteresis whose branches follow the cold and warm spells in time).
+    Returns [(cv rms, name, variant, e, model)] for the knots other than
+    the current ones."""
+    drift = next((e for e in model.spec.effects if e.name == "drift"), None)
+    if drift is None:
+        return []
+    best = {}
+    for c, name, v, _, _ in sorted(tried, key=lambda x: x[0]):
+        if name in fx.FAMILIES and not fx.FAMILIES[name].nuisance and name not in best:
+            best[name] = v
+    out = []
+    for name in list(best)[:MAX_PAIR_MEMBERS]:
+        fam = fx.FAMILIES[name]
+        for knots in fx.FAMILIES["drift"].variants:
+            if knots == drift.variant:
+                continue
+            base = model.spec.without("drift").with_effect(fx.Effect("drift", knots))
+            trial = fx.fit_param(data, base, fam, best[name])
+            if sum(1 for e in trial.spec.effects if fx.FAMILIES[e.name].param_name) > 1:
+                trial = repolish(data, trial.spec)
+            if not admissible(fam, trial.spec):
+                continue
+            e = cv_residual(data, trial.spec.without(name), opts,
+                            candidate_of(data, trial.spec, name, best[name]))
+            out.append((rms(e), name, best[name], e, trial))
+    return out
+
+
+def member_not_needed(data, joint, names, variants, opts, per_report, n_tried):
+    """None when every member of the pair in `joint` lowers the systematic
+    error materially (_stopping.material) on top of the pair without it,
+    else {effect, systematic_gain, ...} of the first member that does not
+    (its parameter chosen inside each fold, the other member held at the
+    joint fit)."""
+    for name, variant in zip(names, variants):
+        rest = joint.spec.without(name)
+        e_without = cv_residual(data, rest, opts)
+        e_with = cv_residual(data, rest, opts, candidate_of(data, joint.spec, name, variant))
+        _, verdict = judge(e_without, e_with, opts, per_report, n_tried)
+        if not material(verdict, opts):
+            return {"effect": name, "not_needed_in": list(names), **verdict}
+    return None
 
 
 def _variants(name, best_variant):

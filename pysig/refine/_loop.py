@@ -17,7 +17,7 @@ from . import _robust as robust
 from ._base_model import base_spec, repolish, reselect, screen_impulses
 from ._cross_validation import cv_residual, rms
 from ._diagnostics import candidate_relations, residual_diagnostics
-from ._joint import candidate_of, effect_shares, pair_trials
+from ._joint import candidate_of, effect_shares, member_not_needed, pair_trials, redrift_trials
 from ._options import Options
 from ._result import Result, Step
 from ._shape import shape_trials
@@ -140,12 +140,24 @@ def _loop(data, used, impulses, opts):
         n_families = len({n for _, n, _, _, _ in tried})
         ok, verdict = judge(e_cv, e_new, opts, per_report, n_families)
         if not ok:
+            # the drift in the model chosen again with the newcomer in
+            redrifted = redrift_trials(data, model, tried, opts, admissible)
+            n_tried = n_families + len({n for _, n, _, _, _ in redrifted})
+            for c, n, v, e_r, trial_r in sorted(redrifted, key=lambda x: x[0]):
+                r_ok, r_verdict = judge(e_cv, e_r, opts, per_report, n_tried)
+                if r_ok:
+                    ok, verdict = True, r_verdict
+                    cv_new, name, variant, e_new, trial = c, n, v, e_r, trial_r
+                    summary += [{"effect": n, "variant": v, "cv_rms": c, "drift_knots_rechosen": True}]
+                    break
+        if not ok:
             # two overlapping effects can each fail alone and pass together
             pairs = pair_trials(data, model, tried, opts, admissible)
             n_tried = n_families + len({names for _, names, _, _, _ in pairs})
             for c, names, variants, e_pair, joint in sorted(pairs, key=lambda x: x[0]):
                 pair_ok, pair_verdict = judge(e_cv, e_pair, opts, per_report, n_tried)
-                if pair_ok:
+                if pair_ok and member_not_needed(data, joint, names, variants, opts, per_report,
+                                                 n_tried) is None:
                     ok, verdict = True, pair_verdict
                     cv_new, name, variant, e_new, trial = c, names, variants, e_pair, joint
                     summary += [{"effect": " + ".join(names), "variant": list(variants), "cv_rms": c}]

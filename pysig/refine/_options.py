@@ -7,6 +7,7 @@ from . import _robust as robust
 
 DEFAULT_FOLDS = 10
 DEFAULT_TEST_BLOCKS = 20
+DEFAULT_HAC_BLOCKS = 5         # the test's longest HAC window: a fifth of the record
 DEFAULT_ALPHA = 0.05
 DEFAULT_MIN_GAIN = 0.02
 DEFAULT_REPORT_S = 10.0        # a reported reading averages this long
@@ -17,7 +18,8 @@ DEFAULT_MATERIAL = 0.5         # removed systematic error, in units of a reporte
 class Options:
     folds: int = DEFAULT_FOLDS
     gap: int = None              # guard band (samples); default n // (4 * folds)
-    test_blocks: int = DEFAULT_TEST_BLOCKS
+    test_blocks: int = DEFAULT_TEST_BLOCKS  # time blocks of the residual diagnostics
+    hac_blocks: int = DEFAULT_HAC_BLOCKS    # the test's HAC window: at most n / hac_blocks samples
     alpha: float = DEFAULT_ALPHA
     min_gain: float = DEFAULT_MIN_GAIN
     max_steps: int = 6
