@@ -89,3 +89,11 @@ def test_refine_cli_step_is_unexplained_not_named(tmp_path, capsys):
     assert "drift in time (nuisance, not in the device correction)" in out, out
     doc = json.loads(report.read_text())
     assert doc["effects_found"] == [] and doc["unexplained"]["unexplained"] is True
+
+
+def test_a_p_value_that_underflows_prints_as_a_bound_not_zero():
+    from pysig.cli.commands.refine import _p_text
+    assert _p_text(0.0) == "< 1e-16"
+    assert _p_text(3e-20) == "< 1e-16"
+    assert _p_text(0.027) == "0.027"
+    assert _p_text(2e-6) == "2e-06"

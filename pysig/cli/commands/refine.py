@@ -187,6 +187,13 @@ def drift_and_share_lines(rep):
     return lines
 
 
+def _p_text(p):
+    """A p-value as printed: below double precision's resolution near 1 the
+    tail probability is not trustworthy digit by digit (it may underflow to
+    0), so it reads as a bound, never as 0."""
+    return "< 1e-16" if p < 1e-16 else f"{p:.2g}"
+
+
 def format_table(name, result, start=None):
     rep = result.report()
     base = (f"base model {start}" if start else f"offset order {rep['base_model']['offset_order']}")
@@ -199,7 +206,7 @@ def format_table(name, result, start=None):
     for k, s in enumerate(rep["steps"], 1):
         lines.append(f"  {k:<5}{s['effect']:<14}{_fmt_step_params(s):<24}{s['rms_before']:>11.4g}"
                      f"{s['rms_after']:>11.4g}{s['cv_rms_before']:>11.4g}{s['cv_rms_after']:>11.4g}"
-                     f"{s['p_value']:>10.2g}")
+                     f"{_p_text(s['p_value']):>10}")
     ratio = rep["base_rms"] / rep["final_rms"] if rep["final_rms"] > 0 else float("inf")
     lines.append(f"  RMS {rep['base_rms']:.4g} -> {rep['final_rms']:.4g} ({ratio:.2f}x); "
                  f"CV RMS {rep['base_cv_rms']:.4g} -> {rep['final_cv_rms']:.4g}")
@@ -216,7 +223,7 @@ def format_table(name, result, start=None):
     for r in rep["not_added"]:
         lines.append(f"  not added: {_fmt_variant(r)} (systematic gain "
                      f"{100 * r['systematic_gain']:.1f} %, removed {r['systematic_removed']:.3g} vs "
-                     f"reading noise {r['reading_noise']:.3g}, p = {r['p_value']:.2g}, needs < "
+                     f"reading noise {r['reading_noise']:.3g}, p = {_p_text(r['p_value'])}, needs < "
                      f"{r['p_threshold']:.2g})"
                      + ("; its model as kept scores worse out of sample" if r.get("kept_model_cv_worse") else ""))
     for r in {r["effect"]: r for r in rep["not_claimed"]}.values():
