@@ -81,6 +81,16 @@ def refine(data, opts=None):
     return _loop(replace(data, mask=used & ~again), used, again, opts)
 
 
+def _first_passing(trials, e_cv, opts, per_report, n_tried, acceptable=None):
+    """The best trial by CV RMS that passes the test (and `acceptable`, given
+    its names, variants and model), with its verdict; None if none does."""
+    for t in sorted(trials, key=lambda x: x[0]):
+        t_ok, t_verdict = judge(e_cv, t[3], opts, per_report, n_tried)
+        if t_ok and (acceptable is None or acceptable(t[1], t[2], t[4])):
+            return t, t_verdict
+    return None
+
+
 def _loop(data, used, impulses, opts):
     per_report = robust.samples_per_report(data.dt, opts.report_s)
     t_sigma = robust.white_sigma(np.where(data.mask, data.T, np.nan)) if data.T is not None else 0.0
@@ -143,25 +153,24 @@ def _loop(data, used, impulses, opts):
             # the drift in the model chosen again with the newcomer in
             redrifted = redrift_trials(data, model, tried, opts, admissible)
             n_tried = n_families + len({n for _, n, _, _, _ in redrifted})
-            for c, n, v, e_r, trial_r in sorted(redrifted, key=lambda x: x[0]):
-                r_ok, r_verdict = judge(e_cv, e_r, opts, per_report, n_tried)
-                if r_ok:
-                    ok, verdict = True, r_verdict
-                    cv_new, name, variant, e_new, trial = c, n, v, e_r, trial_r
-                    summary += [{"effect": n, "variant": v, "cv_rms": c, "drift_knots_rechosen": True}]
-                    break
+            found = _first_passing(redrifted, e_cv, opts, per_report, n_tried)
+            if found is not None:
+                (cv_new, name, variant, e_new, trial), verdict = found
+                ok = True
+                summary += [{"effect": name, "variant": variant, "cv_rms": cv_new,
+                             "drift_knots_rechosen": True}]
         if not ok:
             # two overlapping effects can each fail alone and pass together
             pairs = pair_trials(data, model, tried, opts, admissible)
             n_tried = n_families + len({names for _, names, _, _, _ in pairs})
-            for c, names, variants, e_pair, joint in sorted(pairs, key=lambda x: x[0]):
-                pair_ok, pair_verdict = judge(e_cv, e_pair, opts, per_report, n_tried)
-                if pair_ok and member_not_needed(data, joint, names, variants, opts, per_report,
-                                                 n_tried) is None:
-                    ok, verdict = True, pair_verdict
-                    cv_new, name, variant, e_new, trial = c, names, variants, e_pair, joint
-                    summary += [{"effect": " + ".join(names), "variant": list(variants), "cv_rms": c}]
-                    break
+            found = _first_passing(
+                pairs, e_cv, opts, per_report, n_tried,
+                lambda names, variants, joint: member_not_needed(
+                    data, joint, names, variants, opts, per_report, n_tried) is None)
+            if found is not None:
+                (cv_new, name, variant, e_new, trial), verdict = found
+                ok = True
+                summary += [{"effect": " + ".join(name), "variant": list(variant), "cv_rms": cv_new}]
         if not ok:
             rejected = [{"effect": name, "variant": variant, "cv_rms": cv_new, "cv_rms_now": cv_old,
                          "cv_gain": 1.0 - cv_new / cv_old if cv_old > 0 else 0.0, **verdict}]
