@@ -129,13 +129,13 @@ SIG_CHAIN_STAGE bool sig_chain_trend_f(bool refilling, sig_real r, sig_real sigm
         *up = *dn = SIG_REAL(0.0);
         return false;
     }
-    /* in locals, each clamp a max and one test of the larger sum: the
-     * residual's sign is random, a branch on it would be mispredicted half
-     * the time (the batch path runs this on every sample) */
+    /* in locals, each clamp max(v, 0) without a branch and one test of the
+     * larger sum: the residual's sign is random, a branch on it would be
+     * mispredicted half the time (the batch path runs this on every sample) */
     u = *up + r - sigma;
     d = *dn - r - sigma;
-    u = (u + (u < SIG_REAL(0.0) ? -u : u)) * SIG_REAL(0.5);   /* max(u, 0) without a branch */
-    d = (d + (d < SIG_REAL(0.0) ? -d : d)) * SIG_REAL(0.5);
+    u = sig_real_keep(u, u > SIG_REAL(0.0));
+    d = sig_real_keep(d, d > SIG_REAL(0.0));
     *up = u;
     *dn = d;
     return (u > d ? u : d) > sigma + sigma;
