@@ -80,7 +80,6 @@ sig_status sig_clamp_i16(int16_t *x, int16_t lo, int16_t hi);
 sig_real_bits sig_real_to_bits(sig_real x);
 bool sig_real_isfinite(sig_real x);
 bool sig_real_isnan(sig_real x);
-sig_real sig_real_keep(sig_real x, bool keep);
 sig_status sig_clamp_real(sig_real *x, sig_real lo, sig_real hi);
 bool sig_real_all_finite(const sig_real *v, uint16_t n);
 #endif
@@ -203,17 +202,6 @@ SIG_HELPER bool sig_real_isfinite(sig_real x)
 SIG_HELPER bool sig_real_isnan(sig_real x)
 {
     return (sig_real_to_bits(x) & ~SIG_REAL_SIGN_BIT) > SIG_REAL_EXP_BITS;
-}
-
-/* x where keep, else +0, by a mask on the bits: a select without a branch
- * where the condition is a coin toss on noise (a branch would be
- * mispredicted half the time; compilers keep one for `c ? x : 0`) */
-SIG_HELPER sig_real sig_real_keep(sig_real x, bool keep)
-{
-    union { sig_real r; sig_real_bits b; } u;
-    u.r = x;
-    u.b &= (sig_real_bits)0 - (sig_real_bits)keep;
-    return u.r;
 }
 
 #endif /* SIG_NO_FLOAT */

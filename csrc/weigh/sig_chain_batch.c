@@ -22,7 +22,7 @@
 #endif
 
 /* gcc's basic-block vectoriser (on at -O2 since gcc 12) packs pairs of the
- * loop's scalars (the window's extremes, the two trend sums, ...) into
+ * loop's scalars (the window's extremes, the thresholds, ...) into
  * vectors and pays for it in shuffles: about a tenth more instructions per
  * sample, measured.  The loop is scalar by nature (each sample depends on
  * the last). */
@@ -90,7 +90,7 @@
                 if (held == wn) drifting = mag(xk - anchor) > nz.sigma; \
                 anchor = xk; \
             } \
-            trending = sig_chain_trend_f(held < wn, y - xk, nz.sigma, &tup, &tdn); \
+            trending = sig_chain_trend_f(held < wn, y - xk, nz.sigma, &tmean); \
             if (s) \
                 s = sig_chain_backed(st, held, wn, mrun, drifting, trending, \
                                      mag(y - xk) <= nearb && mag(m - xk) <= nz.sigma); \
@@ -146,7 +146,7 @@ static inline sig_real mag(sig_real v)
         gate.rejected_prev = c->gate.rejected_prev; gate.holdoff = c->gate.holdoff; gate.frozen = c->gate.frozen; \
         stab = c->stable; \
         anchor = c->anchor; dage = c->drift_age; drifting = c->drifting; \
-        tup = c->trend_up; tdn = c->trend_dn; \
+        tmean = c->trend_mean; \
         fast = c->limit.t.seeded && held != 0u && c->kf.seeded && c->st.has_prev && !c->ramp \
                && mx <= FAST_MAX && mn >= -FAST_MAX; \
     } while (0)
@@ -163,7 +163,7 @@ static inline sig_real mag(sig_real v)
         c->gate.rejected_prev = gate.rejected_prev; c->gate.holdoff = gate.holdoff; c->gate.frozen = gate.frozen; \
         c->stable = stab; c->settled = srun >= stable_count; \
         c->anchor = anchor; c->drift_age = dage; c->drifting = drifting; \
-        c->trend_up = tup; c->trend_dn = tdn; \
+        c->trend_mean = tmean; \
     } while (0)
 
 /* The batch form of sig_chain_step_f: x[0..n) -> out, stable (0/1).
@@ -190,7 +190,7 @@ static BATCH_BODY sig_status process_f(sig_chain_f *c, const sig_real *x, size_t
     sig_status st;
     bool s, conv, fast, accept, stab, drifting, trending, seed_first, update;
     sig_real dc, sum, mx, mn, kx, kp, kk, prev, offset;      /* hot state */
-    sig_real anchor, tup, tdn;                               /* noise_auto: hot state too, */
+    sig_real anchor, tmean;                                  /* noise_auto: hot state too, */
     sig_noise_f nz;                 /* with the estimator and its gate (copied field by field: */
     sig_chain_gate gate;            /* a whole-struct copy costs a store-forwarding stall) */
     uint8_t head, held, lrun, srun, mrun, dage;
