@@ -74,3 +74,55 @@ def test_auto_batch_runs_long_hx711_like_runs():
     np.testing.assert_array_equal(o1, o2)
     np.testing.assert_array_equal(s1, s2)
     assert s2.mean() > 0.5                       # mostly settled: the fast path's steady state
+
+
+@st.composite
+def settled_signals(draw):
+    """Long stretches of steady noise (the estimator saturates after 255
+    updates, the window is full and settled: the batch path's steady-state
+    loop), broken by what that loop hands back: single and paired glitches,
+    NaN/inf, a step (the motion test trips inside it), a slow drift, a ramp;
+    any scale, rounded or not; plus split points."""
+    n = draw(st.integers(1500, 6000))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    scale = draw(st.sampled_from([1e-3, 1.0, 70.0, 1e6]))
+    x = rng.normal(0, 1.0, n)
+    for _ in range(draw(st.integers(0, 3))):                     # steps
+        x[int(rng.integers(600, n)):] += draw(st.sampled_from([4.0, 12.0, 300.0, -50.0]))
+    if draw(st.booleans()):                                      # a slow drift
+        a = int(rng.integers(600, n))
+        x[a:] += draw(st.sampled_from([0.02, 0.3])) * np.arange(n - a)
+    if draw(st.booleans()):                                      # a ramp (a pour)
+        a = int(rng.integers(600, n))
+        b = min(n, a + int(rng.integers(5, 80)))
+        x[a:b] += 5.0 * np.arange(1, b - a + 1)
+        x[b:] += 5.0 * (b - a)
+    x = x * scale
+    for _ in range(draw(st.integers(0, 8))):                     # glitches, some in pairs
+        i = int(rng.integers(400, n - 1))
+        x[i:i + draw(st.integers(1, 2))] += draw(st.sampled_from([-1e3, 20.0, 4e4])) * scale
+    for _ in range(draw(st.integers(0, 3))):
+        x[int(rng.integers(400, n))] = draw(st.sampled_from([math.nan, math.inf, -math.inf]))
+    x = np.round(x) if draw(st.booleans()) else x
+    return x, sorted(draw(st.lists(st.integers(0, n), max_size=4)))
+
+
+@settings(max_examples=60, deadline=None)
+@given(settled_signals(), st.booleans())
+def test_auto_batch_steady_state_loop_equals_the_step_loop(sig, tare):
+    """The steady-state loop of the batch path and its hand-offs to the
+    general path (a sample the limit rejects, a non-finite one, a motion test
+    that trips) give the step loop's bits: outputs, flags, status, state."""
+    x, cuts = sig
+    stepped, batch = Chain(), Chain()
+    for part in split(x, cuts):
+        o1, s1, st1 = stepped.process(part, flags=True)
+        o2, s2 = batch.process(part)
+        np.testing.assert_array_equal(o1, o2)
+        np.testing.assert_array_equal(s1, s2)
+        if len(part):
+            assert batch.status == st1[-1]
+        assert _state(batch) == pytest.approx(_state(stepped), rel=0, abs=0, nan_ok=True)
+        assert batch.sigma == stepped.sigma
+        if tare:
+            assert batch.tare() == stepped.tare()
