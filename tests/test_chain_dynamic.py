@@ -184,15 +184,17 @@ def test_step_held_as_impulses_is_never_stable(fixed):
 @pytest.mark.parametrize("slope_sigmas", [0.5, 1.0, 1.5, 2.0])
 def test_slow_move_from_a_settled_load_drops_stable_early(fixed, slope_sigmas):
     """A load that begins to move by 0.5..2 sigma per sample from a settled
-    level: the motion test needs a few samples to trip, the residual's
-    CUSUM (allowance sigma, alarm 2 sigma) drops `stable` one or two samples
-    earlier.  Over 40 noise draws at most 5 runs have a sample flagged
-    stable more than 3 sigma off the load (measured 1, 2, 4, 3 runs at
-    0.5, 1, 1.5, 2 sigma per sample; without the CUSUM 17, 15, 16, 7: the
-    output held the old level as stable for a sample or two).  Zero is
-    not reachable on a per-sample flag judged on noisy samples: the first
-    sample 3 sigma off can look 1-2 sigma off to any causal test.  On the
-    still load before the move the flag stays up (>= 90 % of it)."""
+    level: the motion test needs a few samples to trip; the trend test (the
+    weighted mean of sample - output, weight 1/2, within 2 of its standard
+    deviations of 0) drops `stable` before the output lags 3 sigma behind.
+    Over 40 noise draws at most 2 runs have a sample flagged stable more
+    than 3 sigma off the load (measured 0, 0, 0, 1 runs at 0.5, 1, 1.5, 2
+    sigma per sample, float and fixed; with the CUSUM before it, allowance
+    sigma and alarm 2 sigma, 1, 2, 4, 3; with no trend test 17, 15, 16, 7).
+    Zero is not reachable on a per-sample flag judged on noisy samples for
+    every move: the first sample 3 sigma off can look 2 sigma off to any
+    causal test.  On the still load before the move the flag stays up
+    (>= 90 % of it; measured 94 %)."""
     sigma, runs, still = 70.0, 0, []
     for seed in range(40):
         truth, noise = _settled(200, sigma, seed)
@@ -201,9 +203,33 @@ def test_slow_move_from_a_settled_load_drops_stable_early(fixed, slope_sigmas):
         out, stable = C.Chain(fixed=fixed).process(x)
         runs += _false_stable(out, stable, truth, sigma) > 0
         still.append(np.mean(stable[40:120]))
-    assert runs <= 5
+    assert runs <= 2
     assert np.mean(still) >= 0.9
 
+
+
+class _NoTrendTest(R.Chain):
+    """The spec with the trend test left out: what the rest of the backing costs."""
+
+    def _trend(self, r):
+        self.trending = False
+
+
+@pytest.mark.parametrize("fixed", [False, True])
+def test_trend_test_costs_a_still_load_what_a_95_percent_test_does(fixed):
+    """On a still load with Gaussian noise the weighted mean of sample -
+    output (weight 1/2: standard deviation sigma / sqrt(3), a little more
+    as the output has its own noise) leaves its band of 2 standard
+    deviations on about 5 % of the samples, so the trend test drops
+    `stable` on that share and no more (measured 5.2 % float and fixed over
+    20 000 samples at 70 codes of noise; the rest of the backing costs
+    0.6 %)."""
+    rng = np.random.default_rng(11)
+    x = np.rint(5000.0 + 70.0 * rng.standard_normal(20000))
+    with_trend = C.Chain(fixed=fixed).process(x)[1][200:].mean()
+    without = _NoTrendTest(fixed=fixed).process(x)[1][200:].mean()
+    assert without >= 0.99
+    assert 0.03 <= without - with_trend <= 0.07
 
 # ---- impulses and motion told apart ------------------------------------------------
 

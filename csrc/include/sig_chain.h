@@ -73,10 +73,11 @@
  *    creeping or swinging out), the sample within
  *    3 sigma of the output (near_band), the window's trimmed mean within
  *    1 sigma of it (a load that has begun to move faster than the output
- *    follows) and no trend: a two-sided CUSUM of the sample's residual
- *    (sample - output, allowance sigma, started again with the window) at
- *    most 2 sigma on either side (a load that moves by a few sigma per
- *    sample, too slowly for the motion test to trip at once).
+ *    follows) and no trend: the exponentially weighted mean (weight 1/2)
+ *    of the sample's residual (sample - output, started again with the
+ *    window) within 2 of its standard deviations, 2 sigma / sqrt(3), of 0
+ *    (a load that moves by a few sigma per sample, too slowly for the
+ *    motion test to trip at once; sig_chain_stages.h).
  *
  * Start of the Kalman estimate: seed_first takes the first window mean;
  * without it the estimate starts from x0 and the parameters must trust the
@@ -169,7 +170,7 @@ typedef struct {
     sig_real pred;          /* the ramp's prediction for this sample */
     sig_real prev_x;        /* last finite sample */
     sig_real near_band;     /* 3 sigma */
-    sig_real trend_up, trend_dn;    /* the residual's CUSUMs (above) */
+    sig_real trend_mean;    /* the residual's weighted mean (above) */
     bool ramp, missed, paused;   /* following a ramp; its last sample held; it looked stopped */
     bool followed;          /* a sample followed since the ramp began */
     bool settled;           /* the stability detector's own verdict */
@@ -194,7 +195,7 @@ typedef struct {
     int32_t slope, last, origin, prev_x;   /* codes (|slope| <= 2^25) */
     int32_t pred;           /* codes */
     int32_t near_band;      /* Q24.7 */
-    int32_t trend_up, trend_dn;    /* Q24.7 */
+    int32_t trend_mean;     /* Q24.7 */
     bool trending;          /* this sample's trend verdict */
     bool ramp, missed, paused, followed, settled;
     int32_t anchor;         /* Q24.7 */

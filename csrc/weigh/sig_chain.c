@@ -225,7 +225,7 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = SIG_REAL(0.0);
-    c->trend_up = c->trend_dn = SIG_REAL(0.0);
+    c->trend_mean = SIG_REAL(0.0);
     c->drift_age = 0u;
     c->drifting = true;
     (void)sig_noise_reset_f(&c->noise);
@@ -283,7 +283,7 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
         c->anchor = xk;
     }
     trending = c->noise_auto
-               && sig_chain_trend_f(c->ap.count < c->ap.n, y - xk, c->noise.sigma, &c->trend_up, &c->trend_dn);
+               && sig_chain_trend_f(c->ap.count < c->ap.n, y - xk, c->noise.sigma, &c->trend_mean);
     if (c->noise_auto && stab)
         stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, trending,
                                 y - xk <= c->near_band && xk - y <= c->near_band
@@ -407,7 +407,7 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = 0;
-    c->trend_up = c->trend_dn = 0;
+    c->trend_mean = 0;
     c->trending = false;
     c->drift_age = 0u;
     c->drifting = true;
@@ -465,7 +465,7 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
      * this frame on the chain's deepest call path */
     c->trending = c->noise_auto
                   && sig_chain_trend_q(c->ap.count < c->ap.n, sig_sat_sub32(codes_to_q7(y), xk), c->noise.sigma,
-                                       &c->trend_up, &c->trend_dn);
+                                       &c->trend_mean);
     if (c->noise_auto && stab)
         stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, c->trending,
                                 sig_abs32_sat(sig_sat_sub32(codes_to_q7(y), xk)) <= c->near_band

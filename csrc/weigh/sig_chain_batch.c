@@ -37,7 +37,7 @@
         gate.rejected_prev = c->gate.rejected_prev; gate.holdoff = c->gate.holdoff; gate.frozen = c->gate.frozen; \
         stab = c->stable; settled = c->settled; \
         anchor = c->anchor; dage = c->drift_age; drifting = c->drifting; \
-        tup = c->trend_up; tdn = c->trend_dn; \
+        tmean = c->trend_mean; \
         fast = c->limit.t.seeded && held != 0u && c->kf.seeded && c->st.has_prev && !c->ramp \
                && mx <= FAST_MAX && mn >= -FAST_MAX; \
     } while (0)
@@ -53,7 +53,7 @@
         c->gate.rejected_prev = gate.rejected_prev; c->gate.holdoff = gate.holdoff; c->gate.frozen = gate.frozen; \
         c->stable = stab; c->settled = settled; \
         c->anchor = anchor; c->drift_age = dage; c->drifting = drifting; \
-        c->trend_up = tup; c->trend_dn = tdn; \
+        c->trend_mean = tmean; \
     } while (0)
 
 /* The batch form of sig_chain_step_f: x[0..n) -> out, stable (0/1).
@@ -78,7 +78,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
     sig_status st;
     bool s, conv, fast, accept, stab, settled, drifting, trending, nauto, seed_first, update;
     sig_real dc, sum, mx, mn, kx, kp, kk, prev, offset;      /* hot state */
-    sig_real anchor, tup, tdn;                               /* noise_auto: hot state too, */
+    sig_real anchor, tmean;                                  /* noise_auto: hot state too, */
     sig_noise_f nz;                 /* with the estimator and its gate (copied field by field: */
     sig_chain_gate gate;            /* a whole-struct copy costs a store-forwarding stall) */
     uint8_t head, held, lrun, srun, mrun, dage;
@@ -213,7 +213,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
                 if (held == wn) drifting = xk - anchor > nz.sigma || anchor - xk > nz.sigma;
                 anchor = xk;
             }
-            trending = sig_chain_trend_f(held < wn, y - xk, nz.sigma, &tup, &tdn);
+            trending = sig_chain_trend_f(held < wn, y - xk, nz.sigma, &tmean);
             if (s)
                 s = sig_chain_backed(st, held, wn, mrun, drifting, trending,
                                      y - xk <= nearb && xk - y <= nearb && m - xk <= nz.sigma && xk - m <= nz.sigma);

@@ -487,7 +487,7 @@ class Chain:
         self.ramp, self.missed, self.paused, self.followed = False, False, False, False
         self.slope, self.last, self.prev_x, self.origin, self.pred = 0, 0, 0, 0, 0
         self.anchor, self.drift_age, self.drifting = 0, 0, True
-        self.trend_up, self.trend_dn, self.trending = 0, 0, False
+        self.trend_mean, self.trending = 0, False
         self._set_thresholds()
 
     def _set_thresholds(self):
@@ -645,20 +645,23 @@ class Chain:
             self.anchor, self.drift_age = xk, 0
 
     def _trend(self, r):
-        """auto mode: two-sided CUSUM of the sample's residual r = y - output
-        with allowance sigma, both sums started again while the window
-        refills; `trending` while either is above 2 sigma (a load that has
-        begun to move by a few sigma per sample, before the motion test trips)."""
+        """auto mode: the residual r = y - output goes into a weighted mean
+        with weight 1/2 (standard deviation sigma / sqrt(3) on a still load),
+        started again while the window refills; `trending` while it is more
+        than 2 of its standard deviations from 0, 2 / sqrt(3) sigma taken as
+        37/32 sigma (a load that has begun to move by a few sigma per sample,
+        before the motion test trips)."""
         s = self.noise.sigma
         if self.ap.count < self.ap.n:
-            self.trend_up, self.trend_dn, self.trending = 0, 0, False
+            self.trend_mean, self.trending = 0, False
             return
         if self.fixed:
-            up, dn, two = sat32(sat32(self.trend_up + r) - s), sat32(sat32(self.trend_dn - r) - s), sat32(s + s)
+            self.trend_mean = sat32(self.trend_mean + (sat32(r - self.trend_mean) >> 1))
+            self.trending = min(abs(self.trend_mean), INT32_MAX) > s + (s >> 3) + (s >> 5)
         else:
-            up, dn, two = self.trend_up + r - s, self.trend_dn - r - s, s + s
-        self.trend_up, self.trend_dn = max(up, 0), max(dn, 0)
-        self.trending = self.trend_up > two or self.trend_dn > two
+            e = self.trend_mean + (r - self.trend_mean) * 0.5
+            band = s * 1.15625
+            self.trend_mean, self.trending = e, e > band or -e > band
 
     def _backed(self, ret, y_k, m_k, xk):
         """auto mode: the stability detector's verdict counts only when the

@@ -790,7 +790,7 @@ static sig_status step_auto(int32_t x)
     }
     /* the trend test runs on every sample (the window is full here) */
     A.trending = sig_chain_trend_q(false, sig_sat_sub32(S.base7 + (int32_t)y * 128, xk), A.noise.sigma,
-                                   &A.trend_up, &A.trend_dn);
+                                   &A.trend_mean);
     if (stab)
         stab = sig_chain_backed(ret, S.count, S.n, motion_run, A.drifting, A.trending,
                                 sig_abs32_sat(S.base7 + (int32_t)y * 128 - xk) <= A.near_band
