@@ -48,6 +48,12 @@ def dynamic_signals(draw):
 @given(dynamic_signals(), auto_kwargs(), st.booleans())
 def test_auto_batch_equals_the_step_loop_split(sig, kw, tare):
     x, cuts = sig
+    assert_batch_is_the_step_loop(x, cuts, tare, kw)
+
+
+def assert_batch_is_the_step_loop(x, cuts, tare, kw):
+    """Batch and step loop on x split at cuts (a tare between pieces):
+    outputs, flags, last status, state and sigma, bit for bit."""
     stepped, batch = Chain(**kw), Chain(**kw)
     for part in split(x, cuts):
         o1, s1, st1 = stepped.process(part, flags=True)
@@ -114,15 +120,4 @@ def test_auto_batch_steady_state_loop_equals_the_step_loop(sig, tare):
     general path (a sample the limit rejects, a non-finite one, a motion test
     that trips) give the step loop's bits: outputs, flags, status, state."""
     x, cuts = sig
-    stepped, batch = Chain(), Chain()
-    for part in split(x, cuts):
-        o1, s1, st1 = stepped.process(part, flags=True)
-        o2, s2 = batch.process(part)
-        np.testing.assert_array_equal(o1, o2)
-        np.testing.assert_array_equal(s1, s2)
-        if len(part):
-            assert batch.status == st1[-1]
-        assert _state(batch) == pytest.approx(_state(stepped), rel=0, abs=0, nan_ok=True)
-        assert batch.sigma == stepped.sigma
-        if tare:
-            assert batch.tare() == stepped.tare()
+    assert_batch_is_the_step_loop(x, cuts, tare, {})

@@ -265,7 +265,7 @@ limit:
             nrun = side != lside ? 1u : (lrun < 255u ? (uint8_t)(lrun + 1u) : lrun);
             if (!fast || accept || (lockout_n != 0u && nrun >= lockout_n)
                 || (nauto && (nrun >= 2u                 /* a ramp may start (sig_chain.c) */
-                              || (side > 0 ? c->prev_x - dc : dc - c->prev_x) > a0 * SIG_REAL(0.5)))) {
+                              || (side > 0 ? nz.prev - dc : dc - nz.prev) > a0 * SIG_REAL(0.5)))) {   /* nz.prev: prev_x */
                 HOT_STORE_F();
                 if (sig_chain_step_f(c, xi, &out[i], &s) < 0) {
                     out[i] = xi - xi;          /* NaN: non-finite before the first finite sample */
