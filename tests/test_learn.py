@@ -135,7 +135,7 @@ def test_correct_model_is_never_replaced():
 
 def test_bad_config_and_arguments_leave_state_unchanged():
     good = LearnConfig(n_axes=2).as_dict()
-    for field, bad in (("n_axes", 0), ("n_axes", 4), ("n_bins", 2), ("n_bins", 17), ("bin_shift", 0),
+    for field, bad in (("n_axes", 0), ("n_axes", 4), ("n_bins", 2), ("n_bins", 25), ("n_bins", 33), ("bin_shift", 0),
                        ("bin_shift", 11), ("min_bins", 2), ("min_count", 0), ("margin_shift", 9),
                        ("h_sigma", 15), ("period", 0), ("code_kind", 2), ("t_base", 32000)):
         assert DeviceLearner(dict(good, **{field: bad})).status == Status.ERR_ARG, field
