@@ -46,7 +46,10 @@
  *    Ramps (a pour is a load change, not a glitch): when the limit rejects
  *    a second sample on one side and it lies further out than the first by
  *    more than A0/2 (and the two steps out, Dc to the first and the first to
- *    the second, within a factor 4 of each other), both moved on: it is taken (status
+ *    the second, within a factor 4 of each other), both moved on - or a first
+ *    rejected sample when the sample before, accepted, lay more than A0/2 out
+ *    on the same side and the two steps agree within a factor 2 (a ramp of
+ *    3-6 sigma per sample, whose first sample is within A0) - it is taken (status
  *    SIG_LIMIT_RESEEDED | SIG_CHAIN_RAMP) and the load is followed as a
  *    ramp - each sample within A0 of last + slope is the output (the window
  *    holds it alone; SIG_CHAIN_RAMP), the slope moving half way to each new
@@ -60,10 +63,11 @@
  *    prediction and no farther from it than the ramp's last value, the start
  *    was a glitch pair:
  *    the level before it is held and the window restarts from it
- *    (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED); otherwise the last followed
- *    value is held, the ramp predicted two
- *    slopes on (one glitch in a pour), and a second rejection in a row ends
- *    it.  Single glitches and pairs at one level stay rejected.
+ *    (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED); otherwise the prediction is
+ *    held when the sample lies beyond it on the ramp's side (a glitch in a
+ *    pour), else the last followed value (a bump's top, a swing turning),
+ *    the ramp predicted two slopes on, and a second rejection in a row ends
+ *    it (the last followed value held).  Single glitches and pairs at one level stay rejected.
  *    Stable only when the output is backed by the samples: the stability
  *    detector's verdict is reported only on a sample that was not replaced,
  *    held, re-seeded, a motion restart or a ramp sample, with a full window

@@ -111,9 +111,15 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
     } while (0)
 
 /* After the limit: start, follow or end a ramp; *y is the limit's output,
- * replaced when the ramp takes the sample or holds a value.  A start needs
- * the sample to have moved on by more than A0/2 and its two steps out (Dc to
- * the first rejected sample, that to this one) within a factor 4. */
+ * replaced when the ramp takes the sample or holds a value.  A start on a
+ * second rejection needs the sample to have moved on by more than A0/2 and
+ * its two steps out (Dc to the first rejected sample, that to this one)
+ * within a factor 4; on a first rejection, the sample before (accepted)
+ * more than A0/2 out on the same side and the two steps within a factor 2
+ * (a ramp of 3-6 sigma per sample: its first sample is within A0; a swing
+ * turning back shrinks its step).  A held sample that lies beyond the prediction on the
+ * ramp's side (a glitch in a pour) shows the prediction, else the last
+ * followed value (a bump's top, a swing turning). */
 #define RAMP_AFTER(c, x, y, ret, finite, T, ZERO, HALF, ACCEPT, SET_REF) do {           \
         T d_, moved_, before_, a0_ = (c)->limit.a0;                                      \
         switch (sig_chain_ramp_case(&(c)->ramp, &(c)->missed, &(c)->paused, (ret),       \
@@ -142,8 +148,10 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
                 (void)SET_REF(&(c)->limit, (c)->origin);                                 \
                 *(y) = (c)->origin;                                                      \
                 (ret) = (sig_status)((ret) | SIG_LIMIT_RESEEDED);                        \
-            } else {                                                                     \
-                *(y) = (c)->last;                                                        \
+            } else {                          /* beyond the prediction: */               \
+                *(y) = !(c)->missed && ((c)->slope > ZERO ? (x) > (c)->pred              \
+                                                          : (x) < (c)->pred)             \
+                       ? (c)->pred : (c)->last;       /* the prediction, else last */    \
                 (ret) = sig_chain_ramp_hold(&(c)->ramp, &(c)->missed, &(c)->paused, (ret)); \
             }                                                                            \
             break;                                                                       \
@@ -152,8 +160,11 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
             moved_ = (c)->limit.t.side > 0 ? d_ : -d_;                                   \
             before_ = (c)->limit.t.side > 0 ? (c)->prev_x - (c)->limit.dc                \
                                             : (c)->limit.dc - (c)->prev_x;               \
-            if ((finite) && moved_ > HALF(a0_) && 4 * moved_ >= before_                  \
-                && moved_ <= 4 * before_) {                                              \
+            if ((finite) && ((c)->limit.t.run >= 2u                                      \
+                             ? moved_ > HALF(a0_) && 4 * moved_ >= before_               \
+                               && moved_ <= 4 * before_                                  \
+                             : before_ > HALF(a0_) && 2 * moved_ >= before_              \
+                               && moved_ <= 2 * before_)) {                              \
                 (c)->origin = (c)->limit.dc;                                             \
                 (void)ACCEPT(&(c)->limit, (x));                                          \
                 (c)->ramp = true;                                                        \

@@ -66,8 +66,9 @@
  * on the window's trimmed mean while the window fills or the detector has
  * not settled, the drift blocks, the backing of `stable`, the noise gate
  * and estimator and the thresholds from the new sigma (in the locals,
- * written back with the rest of the hot state); a ramp, and a second
- * rejection on one side (a ramp may start), go to the step path.  Results
+ * written back with the rest of the hot state); a ramp, and a rejection
+ * that may start one (a second on one side, or a first after a sample more
+ * than A0/2 out on that side), go to the step path.  Results
  * are those of n calls of sig_chain_step_f, bit for bit (tests/test_chain.py,
  * tests/test_chain_batch_auto.py, tests/test_chain_c.py); the status
  * returned is the last sample's (a non-finite sample before the first
@@ -116,7 +117,9 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         } else {
             side = d > SIG_REAL(0.0) ? (int8_t)1 : (int8_t)-1;
             nrun = side != lside ? 1u : (lrun < 255u ? (uint8_t)(lrun + 1u) : lrun);
-            if (!fast || accept || (lockout_n != 0u && nrun >= lockout_n) || (nauto && nrun >= 2u)) {
+            if (!fast || accept || (lockout_n != 0u && nrun >= lockout_n)
+                || (nauto && (nrun >= 2u                 /* a ramp may start (sig_chain.c) */
+                              || (side > 0 ? c->prev_x - dc : dc - c->prev_x) > a0 * SIG_REAL(0.5)))) {
                 HOT_STORE_F();
                 if (sig_chain_step_f(c, xi, &out[i], &s) < 0) {
                     out[i] = xi - xi;          /* NaN: non-finite before the first finite sample */

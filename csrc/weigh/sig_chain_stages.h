@@ -59,11 +59,11 @@ SIG_CHAIN_STAGE bool sig_chain_ramp_stop(bool looks_stopped, bool *on, bool *mis
 #define SIG_CHAIN_RAMP_NONE 0u
 #define SIG_CHAIN_RAMP_FOLLOW 1u     /* accepted within A0 of the prediction */
 #define SIG_CHAIN_RAMP_BROKEN 2u     /* rejected: back near the origin, or hold */
-#define SIG_CHAIN_RAMP_TRY 3u        /* second rejection on one side: a ramp if it moved on */
+#define SIG_CHAIN_RAMP_TRY 3u        /* a rejection on one side: a ramp if it and the one before moved on */
 SIG_CHAIN_STAGE uint8_t sig_chain_ramp_case(bool *on, bool *missed, bool *paused, sig_status ret, uint8_t run)
 {
     bool rejected = (ret & SIG_WARN_REJECTED) != 0;
-    if (!*on) return rejected && run >= 2u ? SIG_CHAIN_RAMP_TRY : SIG_CHAIN_RAMP_NONE;
+    if (!*on) return rejected && run >= 1u ? SIG_CHAIN_RAMP_TRY : SIG_CHAIN_RAMP_NONE;
     if ((ret & SIG_LIMIT_RESEEDED) != 0) {
         *on = *missed = *paused = false;
         return SIG_CHAIN_RAMP_NONE;

@@ -577,7 +577,11 @@ class Chain:
         than the first by more than A0/2 starts a ramp (both samples moved on:
         a pour, not a glitch pair at one level; and the two steps out, from Dc
         to the first and from the first to the second, within a factor 4 of
-        each other: not a glitch on a load step); a followed ramp takes each
+        each other: not a glitch on a load step); so does a first rejection
+        when the sample before, accepted, lay more than A0/2 out on the same
+        side and the two steps agree within a factor 2 (a ramp of 3-6 sigma
+        per sample, whose first sample is within A0; a swing turning back
+        shrinks its step); a followed ramp takes each
         sample within A0 of its prediction, last + slope, the slope moving half
         way to each new difference (kept across one held sample).  A rejection back within A0 of where the ramp began ends it
         and the sample is taken (a glitch pair or a bump that came back);
@@ -585,8 +589,11 @@ class Chain:
         sample is nearer where the ramp began than its prediction, and no
         farther from it than the ramp's last value (not a glitch itself), the
         start was a glitch pair: the level before it is held and the window starts
-        again from it (a re-seed); else the last followed value is held, and a
-        second rejection in a row ends the ramp.  Returns (y, status)."""
+        again from it (a re-seed); else the prediction is held when the sample
+        lies beyond it on the ramp's side (a glitch in a pour), the last
+        followed value otherwise (a bump's top, a swing turning, a pour
+        slowing down), and a second rejection in a row ends the ramp with the last
+        followed value.  Returns (y, status)."""
         rejected = (ret & WARN_REJECTED) != 0
         finite = self.fixed or math.isfinite(x)
         if self.ramp:
@@ -609,18 +616,23 @@ class Chain:
                     self.ramp = self.missed = self.paused = False
                     self.limit.set_ref(self.origin)
                     y, ret = self.origin, ret | LIMIT_RESEEDED
-                else:
-                    y = self.last
+                else:       # a glitch in a pour, beyond the prediction: the prediction
+                    beyond = x > self.pred if self.slope > 0 else x < self.pred
+                    y = self.pred if beyond and not self.missed else self.last
                     if self.missed:
                         self.ramp = self.missed = self.paused = False
                     else:
                         self.missed = True
                         ret |= CHAIN_RAMP
-        elif rejected and finite and self.limit.run >= 2:
+        elif rejected and finite and self.limit.run >= 1:
             half = self.limit.a0 >> 1 if self.fixed else self.limit.a0 * 0.5
             moved = self._diff(x, self.prev_x) * self.limit.side
             before = self._diff(self.prev_x, self.limit.Dc) * self.limit.side
-            if moved > half and moved * 4 >= before and moved <= before * 4:
+            if self.limit.run >= 2:
+                start = moved > half and moved * 4 >= before and moved <= before * 4
+            else:           # the sample before was accepted: it moved out, and the steps agree closer
+                start = before > half and moved * 2 >= before and moved <= before * 2
+            if start:
                 self.origin = self.limit.Dc
                 self.limit.accept(x)
                 self.ramp, self.missed, self.paused, self.followed = True, False, False, False
