@@ -135,7 +135,7 @@ def test_correct_model_is_never_replaced():
 
 def test_bad_config_and_arguments_leave_state_unchanged():
     good = LearnConfig(n_axes=2).as_dict()
-    for field, bad in (("n_axes", 0), ("n_axes", 4), ("n_bins", 2), ("n_bins", 17), ("bin_shift", 0),
+    for field, bad in (("n_axes", 0), ("n_axes", 4), ("n_bins", 2), ("n_bins", 25), ("n_bins", 33), ("bin_shift", 0),
                        ("bin_shift", 11), ("min_bins", 2), ("min_count", 0), ("margin_shift", 9),
                        ("h_sigma", 15), ("period", 0), ("code_kind", 2), ("t_base", 32000)):
         assert DeviceLearner(dict(good, **{field: bad})).status == Status.ERR_ARG, field
@@ -164,3 +164,29 @@ def test_outcome_names_match_header():
     for value, name in enumerate(OUTCOMES):
         macro = {"commit": "COMMIT"}.get(name, name.upper().replace("-", "_"))
         assert f"#define SIG_LEARN_{macro}" in header and f"{value}u" in header
+
+
+@settings(max_examples=15, deadline=None)
+@given(seed=st.integers(0, 2 ** 32 - 1), n_axes=st.integers(1, 3), gap=st.integers(2, 6),
+       noise=st.sampled_from([0.5, 2.0, 8.0]))
+def test_no_table_across_an_unseen_stretch(seed, n_axes, gap, noise):
+    """Still samples only in two stretches of the grid, `gap` uncovered bins
+    apart, each too short to make min_bins on its own: no solve commits (a
+    table across the gap would be a line the held-out test cannot judge),
+    and C == spec on it."""
+    cfg = dict(LearnConfig.for_range(0, 16 * 256 - 1, n_axes=n_axes, min_count=10, min_bins=4,
+                                     period=1).as_dict())
+    w = 1 << cfg["bin_shift"]
+    rng = np.random.default_rng(seed)
+    lo = rng.integers(0, 3) * w
+    hi = lo + (2 + gap + 1) * w           # bins b, b+1 then gap uncovered, then b+gap+2, b+gap+3
+    n = 1200
+    t = np.where(np.arange(n) % 2 == 0, rng.integers(lo, lo + 2 * w, n), rng.integers(hi, hi + 2 * w, n))
+    t = np.clip(t, cfg["t_base"], cfg["t_base"] + (cfg["n_bins"] << cfg["bin_shift"]) - 1).astype(np.int64)
+    x = np.clip(np.rint(np.stack([t / 50.0 + a for a in range(n_axes)], 1) + rng.normal(0, noise, (n, n_axes))),
+                -2047, 2047).astype(np.int64)
+    still = np.ones(n, bool)
+    comp, status, seq, commits, solves = _run_spec(cfg, t, x, still, None, 50)
+    assert commits == [] and all(rep["outcome"] == R.WAIT_COVERAGE for _, rep in solves)
+    c = _run_c(cfg, t, x, still, None, 50)
+    assert np.array_equal(c[1], np.array(status, dtype=np.int16)) and c[3] == []

@@ -13,13 +13,19 @@
  * ---- Per-sample path (sig_learn_step): integer sums, no division ---------
  *   temperature  int16 t, the unit of the image (sig_tmodel.h: 0.01 °C or a
  *                raw code read as int16/uint16-32768).
- *   bins         n_bins (3..16) uniform bins of width W = 2^bin_shift
- *                (bin_shift 1..10) from t_base: bin = (t - t_base) >> bin_shift,
+ *   bins         n_bins uniform bins of width W = 2^bin_shift (bin_shift
+ *                1..10) from t_base, 3 <= n_bins and n_bins * n_axes <=
+ *                SIG_LEARN_SUM_SLOTS (48: 32 bins for one axis, 24 for two,
+ *                16 for three; the sums of y share one pool, so fewer axes
+ *                buy a finer grid: a table's error on a curved offset falls
+ *                with the square of the knot spacing, and a 2.56 °C grid
+ *                misses an MPU-6000 gyro curve by 5x the offline fit's
+ *                error): bin = (t - t_base) >> bin_shift,
  *                dt = (t - t_base) & (W - 1), 0 <= dt < 1024; found by a
- *                4-step search on 8W, 4W, 2W, W (the MSP430 shifts one bit
+ *                5-step search on 16W, 8W, 4W, 2W, W (the MSP430 shifts one bit
  *                per instruction: a variable shift costs up to 10 loop turns).
- *   sums         per bin: count (uint16), sum_dt (uint32), sum_y[axis]
- *                (uint32) of y + 2047 for the raw still readings y, |y| <=
+ *   sums         per bin: count (uint16), sum_dt (uint32), sum_y[axis *
+ *                n_bins + bin] (uint32) of y + 2047 for the raw still readings y, |y| <=
  *                SIG_LEARN_Y_MAX (2047; a larger reading is not learned:
  *                SIG_LEARN_SKIPPED; the test is one unsigned compare of
  *                y + 2047 <= 4094).  Biased so that every term is unsigned:
@@ -86,8 +92,13 @@
  *                the sensor before the shift) and learning starts again.
  *
  * ---- Solve (sig_learn_solve): fit, validate, commit ----------------------
- *   coverage     a bin is covered with >= min_count samples; a solve needs
- *                >= min_bins (>= 3) covered bins, else nothing is done.
+ *   coverage     a bin is covered with >= min_count samples; the points are
+ *                those of the longest run of covered bins (the first of
+ *                equals) with at most SIG_LEARN_GAP_MAX (1) uncovered bins
+ *                between two (a table is not interpolated across a stretch
+ *                no still sample has seen: the held-out test cannot judge
+ *                it); a solve needs >= min_bins (>= 3) points, else nothing
+ *                is done.
  *   points       per covered bin i, Q4: T_i = 16 * (bin_lo - t_base) +
  *                rdiv(16 sum_dt, count), Y_i[a] = rdiv(16 sum_y[a], count),
  *                rdiv(n, d) = sign(n) * floor((|n| + d/2) / d).  (One
@@ -140,7 +151,8 @@
 #include "sig_tmodel.h"
 
 #define SIG_LEARN_MAX_AXES   3u
-#define SIG_LEARN_MAX_BINS   16u
+#define SIG_LEARN_MAX_BINS   32u   /* with one axis: n_bins * n_axes <= SIG_LEARN_SUM_SLOTS */
+#define SIG_LEARN_SUM_SLOTS  48u   /* sums of y, bin-major, shared by the axes */
 #define SIG_LEARN_MIN_BINS   3u
 #define SIG_LEARN_COUNT_MAX  2048u
 #define SIG_LEARN_Y_MAX      2047
@@ -150,9 +162,11 @@
 #define SIG_LEARN_CUSUM_X_MAX 511   /* |residual| a block sum adds, LSB */
 #define SIG_LEARN_CUSUM_MAX  16383 /* k and h, Q4 LSB */
 #define SIG_LEARN_MAX_SHIFT  10u
+#define SIG_LEARN_GAP_MAX    1u    /* uncovered bins a table may bridge between two covered ones */
 #define SIG_LEARN_NOISE_MIN_N 32u   /* block pairs before the CUSUM is armed */
-/* bytes of the image sig_learn_solve writes at most (16 knots, 3 axes) */
-#define SIG_LEARN_IMAGE_MAX  (12u + 4u + 10u + 3u * (1u + 2u * 16u) + 4u + 2u + 2u)
+/* bytes of the image sig_learn_solve writes at most (n_axes * (1 + 2 knots)
+ * <= 3 + 2 * 48 for knots <= bins, bins * axes <= 48) */
+#define SIG_LEARN_IMAGE_MAX  (12u + 4u + 10u + 3u + 2u * SIG_LEARN_SUM_SLOTS + 4u + 2u + 2u)
 
 /* Why a solve did not commit (sig_learn_report.outcome). */
 #define SIG_LEARN_COMMIT        0u  /* a new image was written */
@@ -168,7 +182,7 @@ typedef struct {
     uint16_t k_sigma;       /* CUSUM allowance k in sigmas, Q4 */
     uint16_t h_sigma;       /* CUSUM threshold h in sigmas, Q4, > 0 */
     uint8_t bin_shift;      /* bin width 2^bin_shift, 1..10 */
-    uint8_t n_bins;         /* 3..16; t_base + n_bins * 2^bin_shift <= 32767 */
+    uint8_t n_bins;         /* 3..32, n_bins * n_axes <= 48; t_base + n_bins * 2^bin_shift <= 32767 */
     uint8_t min_bins;       /* covered bins a solve needs, 3..n_bins */
     uint8_t margin_shift;   /* validation margin 2^-margin_shift, 1..8 */
     uint8_t n_axes;         /* 1..3 */
@@ -177,10 +191,10 @@ typedef struct {
 
 typedef struct {
     sig_learn_config cfg;
-    uint32_t sum_y[SIG_LEARN_MAX_AXES][SIG_LEARN_MAX_BINS];  /* sum of (y + 2047), axis-major: a bin's offset is a shift */
+    uint32_t sum_y[SIG_LEARN_SUM_SLOTS];  /* sum of (y + 2047), [axis * n_bins + bin]: a bin's axes are a stride apart, no multiply */
     uint32_t sum_dt[SIG_LEARN_MAX_BINS];
     uint16_t count[SIG_LEARN_MAX_BINS];
-    uint16_t bin_w[4];      /* 8W, 4W, 2W, W: the bin search's steps (no variable shift per sample) */
+    uint16_t bin_w[5];      /* 16W, 8W, 4W, 2W, W: the bin search's steps (no variable shift per sample) */
     uint16_t acc_y[SIG_LEARN_MAX_AXES];  /* pending sums of one bin: <= 16 * 4094 < 2^16 */
     uint16_t acc_dt, acc_lo;             /* pending sum of dt (< 2^14); the bin's lower edge - t_base */
     uint8_t acc_bin, acc_n;              /* the pending bin, its samples (< 16) */
@@ -193,7 +207,7 @@ typedef struct {
     uint32_t steps;         /* sig_learn_step calls: the clock of `period` */
     uint32_t last_commit;   /* steps at the last commit */
     uint16_t noise_n;       /* successive still pairs seen, stops at 65535 */
-    uint16_t grid_span;     /* n_bins << bin_shift (<= 16384), from the configuration */
+    uint16_t grid_span;     /* n_bins << bin_shift (<= 32768), from the configuration */
     uint16_t bin_mask;      /* 2^bin_shift - 1 */
     int16_t model_lo, model_hi;   /* range of the model in use */
     uint8_t block_n;        /* samples in the block so far */

@@ -14,6 +14,7 @@ sig_status sig_learn_init(sig_learn *s, const sig_learn_config *cfg)
     if (s == NULL || cfg == NULL) return SIG_ERR_ARG;
     if (cfg->n_axes < 1u || cfg->n_axes > SIG_LEARN_MAX_AXES) return SIG_ERR_ARG;
     if (cfg->n_bins < SIG_LEARN_MIN_BINS || cfg->n_bins > SIG_LEARN_MAX_BINS) return SIG_ERR_ARG;
+    if ((uint16_t)cfg->n_bins * cfg->n_axes > SIG_LEARN_SUM_SLOTS) return SIG_ERR_ARG;
     if (cfg->min_bins < SIG_LEARN_MIN_BINS || cfg->min_bins > cfg->n_bins) return SIG_ERR_ARG;
     if (cfg->bin_shift < 1u || cfg->bin_shift > SIG_LEARN_MAX_SHIFT) return SIG_ERR_ARG;
     if (cfg->min_count < 1u || cfg->min_count > SIG_LEARN_COUNT_MAX) return SIG_ERR_ARG;
@@ -23,9 +24,9 @@ sig_status sig_learn_init(sig_learn *s, const sig_learn_config *cfg)
     top = (int32_t)cfg->t_base + ((int32_t)cfg->n_bins << cfg->bin_shift);
     if (top > INT16_MAX) return SIG_ERR_ARG;
     s->cfg = *cfg;
-    s->grid_span = (uint16_t)((uint16_t)cfg->n_bins << cfg->bin_shift);
+    s->grid_span = (uint16_t)((uint32_t)cfg->n_bins << cfg->bin_shift);   /* <= 32768 */
     s->bin_mask = (uint16_t)((1u << cfg->bin_shift) - 1u);
-    for (a = 0u; a < 4u; a++) s->bin_w[a] = (uint16_t)((s->bin_mask + 1u) << (3u - a));
+    for (a = 0u; a < 5u; a++) s->bin_w[a] = (uint16_t)((uint32_t)(s->bin_mask + 1u) << (4u - a));
     for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) {
         s->k[a] = 0;
         s->h[a] = 0;
@@ -53,8 +54,8 @@ void sig_learn_reset(sig_learn *s)
     for (b = 0u; b < SIG_LEARN_MAX_BINS; b++) {
         s->count[b] = 0u;
         s->sum_dt[b] = 0u;
-        for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) s->sum_y[a][b] = 0u;
     }
+    for (b = 0u; b < SIG_LEARN_SUM_SLOTS; b++) s->sum_y[b] = 0u;
     for (a = 0u; a < SIG_LEARN_MAX_AXES; a++) {
         s->cusum_pos[a] = 0;
         s->cusum_neg[a] = 0;
@@ -103,7 +104,8 @@ sig_status sig_learn_use_model(sig_learn *s, const sig_tmodel *m)
 /* Move the pending samples of one bin into its 32-bit sums. */
 void sig_learn_flush(sig_learn *s)
 {
-    uint8_t a, b = s->acc_bin, n = s->cfg.n_axes;
+    uint8_t a, o, b = s->acc_bin, n = s->cfg.n_axes, stride = s->cfg.n_bins;
+    uint32_t *sum_y = &s->sum_y[b];     /* axis a at sum_y[a * n_bins]: no multiply */
     /* the new count in a local, tested there: sdcc 4.2 (mcs51) reloaded
      * s->count[b] for the test with its two bytes swapped through
      * "mov ar6,r7; mov ar7,r6" (both then the low byte), so a bin of 8 or
@@ -111,8 +113,8 @@ void sig_learn_flush(sig_learn *s)
     uint16_t c = (uint16_t)(s->count[b] + s->acc_n);
     if (s->acc_n == 0u) return;
     s->sum_dt[b] += s->acc_dt;
-    for (a = 0u; a < n; a++) {
-        s->sum_y[a][b] += s->acc_y[a];
+    for (a = 0u, o = 0u; a < n; a++, o = (uint8_t)(o + stride)) {
+        sum_y[o] += s->acc_y[a];
         s->acc_y[a] = 0u;
     }
     s->acc_dt = 0u;
@@ -121,14 +123,14 @@ void sig_learn_flush(sig_learn *s)
         /* halve: the sums keep their width and old samples fade */
         c >>= 1;
         s->sum_dt[b] >>= 1;
-        for (a = 0u; a < n; a++) s->sum_y[a][b] >>= 1;
+        for (a = 0u, o = 0u; a < n; a++, o = (uint8_t)(o + stride)) sum_y[o] >>= 1;
     }
     s->count[b] = c;
 }
 
 /* Add a still sample to the pending sums of its bin; SIG_LEARN_SKIPPED when
  * it has none.  16-bit arithmetic only (the MSP430 widens a signed int16 to
- * 32 bits with a 7-step shift): the grid spans at most 16 * 2^10 units.  The
+ * 32 bits with a 7-step shift): the grid spans at most 32 * 2^10 units.  The
  * axes are written out (no loop): the loop's control costs the MSP430 as much
  * as the adds; the pending sums of absent axes get 0 and stay 0. */
 static sig_status learn_sample(sig_learn *s, int16_t t, const int16_t *raw)
@@ -151,12 +153,12 @@ static sig_status learn_sample(sig_learn *s, int16_t t, const int16_t *raw)
         }
     }
     dt = (uint16_t)(d16 - s->acc_lo);           /* wraps high below the pending bin */
-    if (s->acc_n == 0u || dt >= s->bin_w[3]) {
+    if (s->acc_n == 0u || dt >= s->bin_w[4]) {
         sig_learn_flush(s);
         d0 = d16;
-        /* d16 < 16 W: four compares give the bin and leave dt in d16 */
+        /* d16 < 32 W: five compares give the bin and leave dt in d16 */
         b = 0u;
-        for (a = 0u; a < 4u; a++) {
+        for (a = 0u; a < 5u; a++) {
             b = (uint8_t)(b + b);
             if (d16 >= s->bin_w[a]) {
                 d16 = (uint16_t)(d16 - s->bin_w[a]);

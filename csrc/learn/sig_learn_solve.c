@@ -130,21 +130,49 @@ static bool model_bins(const sig_learn *s, uint8_t *lo, uint8_t *hi)
     return true;
 }
 
+/* Keep the longest run of points (the first of equals) whose successive
+ * bins have at most SIG_LEARN_GAP_MAX uncovered bins between them: a table
+ * is not interpolated across a stretch no still sample has seen (its shape
+ * there is unknown and the held-out test cannot see it). */
+static void keep_longest_run(sig_learn_points *p, uint8_t n_axes)
+{
+    uint8_t i, start = 0u, best = 0u, best_n = 0u, a;
+    for (i = 1u; i <= p->n; i++) {
+        if (i == p->n || p->bin[i] - p->bin[i - 1u] > (int)SIG_LEARN_GAP_MAX + 1) {
+            if ((uint8_t)(i - start) > best_n) {
+                best_n = (uint8_t)(i - start);
+                best = start;
+            }
+            start = i;
+        }
+    }
+    if (best != 0u) {
+        for (i = 0u; i < best_n; i++) {
+            p->t[i] = p->t[best + i];
+            p->bin[i] = p->bin[best + i];
+            for (a = 0u; a < n_axes; a++) p->y[i][a] = p->y[best + i][a];
+        }
+    }
+    p->n = best_n;
+}
+
 static void make_points(const sig_learn *s, sig_learn_points *p)
 {
-    uint8_t b, a;
+    uint8_t b, a, n = s->cfg.n_axes;
     uint16_t c;
+    const uint32_t *sum_y = s->sum_y;
     int32_t lo = 0, step = (int32_t)s->bin_mask * 16 + 16;     /* 16 W */
     p->n = 0u;
-    for (b = 0u; b < s->cfg.n_bins; b++, lo += step) {
+    for (b = 0u; b < s->cfg.n_bins; b++, lo += step, sum_y++) {
         c = s->count[b];
         if (c < s->cfg.min_count) continue;
         p->t[p->n] = lo + rdiv((int32_t)s->sum_dt[b] * 16, c);
-        for (a = 0u; a < s->cfg.n_axes; a++)
-            p->y[p->n][a] = (int16_t)rdiv(((int32_t)s->sum_y[a][b] - (((int32_t)c << 11) - c)) * 16, c);
+        for (a = 0u; a < n; a++)
+            p->y[p->n][a] = (int16_t)rdiv(((int32_t)sum_y[(uint8_t)(a * s->cfg.n_bins)] - (((int32_t)c << 11) - c)) * 16, c);
         p->bin[p->n] = b;
         p->n++;
     }
+    keep_longest_run(p, n);
 }
 
 /* Q12 position of a held-out point from its two neighbours (a < b): inside

@@ -4,7 +4,7 @@ from dataclasses import asdict, dataclass, replace
 
 from ..errors import RangeError
 
-MAX_BINS, MAX_SHIFT = 16, 10
+MAX_BINS, SUM_SLOTS, MAX_SHIFT = 32, 48, 10     # n_bins * n_axes <= SUM_SLOTS
 
 
 @dataclass(frozen=True)
@@ -36,8 +36,9 @@ class LearnConfig:
 
     @staticmethod
     def for_range(t_lo, t_hi, **fields):
-        """The finest grid of at most 16 bins (width a power of two) that
-        covers the int16 temperatures [t_lo, t_hi]; other fields as given.
+        """The finest grid (width a power of two) of at most 48 / n_axes bins
+        (32 for one axis, 16 for three: the sums of the axes share one pool)
+        that covers the int16 temperatures [t_lo, t_hi]; other fields as given.
 
         Examples
         --------
@@ -46,15 +47,16 @@ class LearnConfig:
         (-1024, 9, 10)
         """
         t_lo, t_hi = int(t_lo), int(t_hi)
+        max_bins = min(MAX_BINS, SUM_SLOTS // int(fields.get("n_axes", 1)))
         if t_hi < t_lo:
             raise RangeError(f"learn: temperature range {t_lo}..{t_hi} is empty")
         for shift in range(1, MAX_SHIFT + 1):
             w = 1 << shift
             base = (t_lo // w) * w
             n = t_hi // w - t_lo // w + 1
-            if max(n, 3) <= MAX_BINS and base + max(n, 3) * w <= 32767:
+            if max(n, 3) <= max_bins and base + max(n, 3) * w <= 32767:
                 return LearnConfig(t_base=base, bin_shift=shift, n_bins=max(n, 3), **fields)
-        raise RangeError(f"learn: temperatures {t_lo}..{t_hi} span more than {MAX_BINS} bins of "
+        raise RangeError(f"learn: temperatures {t_lo}..{t_hi} span more than {max_bins} bins of "
                          f"{1 << MAX_SHIFT} (the learner's widest grid)")
 
     @staticmethod

@@ -32,9 +32,9 @@ cdef extern from "sig_learn.h":
         uint8_t bin_shift, n_bins, min_bins, margin_shift, n_axes, code_kind
     ctypedef struct sig_learn:
         sig_learn_config cfg
-        uint32_t sum_y[3][16]
-        uint32_t sum_dt[16]
-        uint16_t count[16]
+        uint32_t sum_y[48]
+        uint32_t sum_dt[32]
+        uint16_t count[32]
         uint8_t acc_bin, acc_n
         int16_t k[3]
         int16_t h[3]

@@ -17,7 +17,8 @@ sig_learn_solve.c, one sample at a time, in plain Python integers.
              only); a crossing of h clears the bins and sets stale.
     solve    thresholds from noise (sigma = max(floor, noise*642 >> 12);
              k, h at most 16383);
-             period; points (Q4 means) of covered bins; leave-one-bin-out
+             period; points (Q4 means) of covered bins, the longest run
+             with at most GAP_MAX uncovered bins between two; leave-one-bin-out
              SSE of the candidate and of the model in use; commit when
              sse_new <= sse_stored - (sse_stored >> margin_shift) and
              sse_stored > 0: a table over the covered bins and the model's
@@ -27,6 +28,7 @@ from . import image, tmodel
 COUNT_MAX, Y_MAX, NOISE_MIN_N, ERR_MAX = 2048, 2047, 32, 4095
 Y_BIAS, ACC_MAX = 2047, 16     # the sums are of y + 2047; pending samples of one bin at most
 BLOCK, CUSUM_X_MAX, CUSUM_MAX = 8, 511, 16383   # noise block length, the CUSUM's residual clamp, k and h limit (Q4)
+GAP_MAX = 1                    # uncovered bins a table may bridge between two covered ones
 STALE, SKIPPED, EXTRAPOLATED, COMMITTED = 512, 1024, 2048, 4096
 COMMIT, WAIT_PERIOD, WAIT_COVERAGE, NOT_BETTER = 0, 1, 2, 3
 SECTION_PWL_TABLE, SECTION_TEMP_CODE = 6, 10
@@ -182,10 +184,19 @@ class Learner:
 
     # ---- solve ----------------------------------------------------------
     def _points(self):
+        """Points of the covered bins; of runs split where more than
+        GAP_MAX uncovered bins lie between two, the longest (the first of
+        equals): a table is not interpolated across an unseen stretch."""
         c = self.cfg
-        return [(b, (b << (c["bin_shift"] + 4)) + _rdiv(self.sum_dt[b] * 16, n),
-                 [_rdiv((s - Y_BIAS * n) * 16, n) for s in self.sum_y[b]])
-                for b, n in enumerate(self.count) if n >= c["min_count"]]
+        pts = [(b, (b << (c["bin_shift"] + 4)) + _rdiv(self.sum_dt[b] * 16, n),
+                [_rdiv((s - Y_BIAS * n) * 16, n) for s in self.sum_y[b]])
+               for b, n in enumerate(self.count) if n >= c["min_count"]]
+        runs, start = [], 0
+        for i in range(1, len(pts) + 1):
+            if i == len(pts) or pts[i][0] - pts[i - 1][0] > GAP_MAX + 1:
+                runs.append(pts[start:i])
+                start = i
+        return max(runs, key=len) if runs else []
 
     def _t(self, tq):
         return self.cfg["t_base"] + ((tq + 8) >> 4)
