@@ -56,6 +56,7 @@ static void mul16(void) __naked
     mov (_mul_r + 2),a
     mov (_mul_r + 3),b
     mul16_add_cross _mul_a, (_mul_b+1)
+    /* cppcheck-suppress constStatement ; assembler macro operands, not a C comma expression */
     mul16_add_cross (_mul_a+1), _mul_b
     ret
     __endasm;
