@@ -186,8 +186,10 @@ def test_an_effect_the_kept_model_no_longer_needs_is_dropped():
     _, truth, data = overlap_case("hysteresis+drift", seed=3, noise=1.0, dt=5.0, length_s=8 * 3600.0)
     rep = refine(data).report()
     assert "warm_up" not in rep["effects_found"], rep["steps"]
-    assert [d["effect"] for d in rep["dropped"]] == ["warm_up"], rep["dropped"]
-    assert rep["dropped"][0]["systematic_removed"] < 0.5 * rep["dropped"][0]["reading_noise"]
+    assert [d["effect"] for d in rep["dropped"]][:1] == ["warm_up"], rep["dropped"]
+    for d in rep["dropped"]:        # each taken out for carrying less than the material margin
+        assert d["systematic_removed"] < 0.5 * d["reading_noise"], d
+        assert d["effect"] not in rep["effects_found"]
     assert all(r["share"] > 0.0 for r in rep["shares"]), rep["shares"]
 
 

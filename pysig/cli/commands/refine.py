@@ -148,7 +148,7 @@ def build_data(joined, t, measured, refs, i, temp, inputs, segments=(0,)):
 def _fmt_params(params):
     items = []
     for k, v in params.items():
-        if k == "coefficients":
+        if k == "coefficients" or k.endswith("_when_added"):    # the table shows the final model's value
             continue
         items.append(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}")
     return " ".join(items) or "-"
