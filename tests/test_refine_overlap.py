@@ -199,3 +199,18 @@ def test_drift_knots_are_chosen_again_with_the_effect_in():
     _, truth, data = roaming_instrument_case(seed=1)
     j = judge_case(truth, refine(data, options_for(truth)))
     assert j["named_right"] and all(j["params_within_50pct"].values()), j
+
+
+def test_a_function_of_time_alone_does_not_trade_for_a_drift_knot():
+    """With the drift's knots chosen again, a warm-up is only another drift:
+    the re-drift trials hold the effects of temperature, never a warm-up
+    (a drift alone, 12 h, got a warm-up of an eighth of the record in
+    place of its fifth knot)."""
+    from pysig.refine import Options
+    from pysig.refine._joint import redrift_trials
+    _, _, data = overlap_case("hysteresis+drift", seed=0, noise=0.5, dt=10.0)
+    model = fx.fit(data, fx.ModelSpec(2, (fx.Effect("drift", 5),)))
+    tried = [(1.0, "warm_up", 0, None, None), (1.1, "hysteresis", 0, None, None)]
+    out = redrift_trials(data, model, tried, Options(), lambda fam, spec: True)
+    assert out and {name for _, name, _, _, _ in out} == {"hysteresis"}
+    assert fx.FAMILIES["warm_up"].time_only and not fx.FAMILIES["hysteresis"].time_only

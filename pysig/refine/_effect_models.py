@@ -151,6 +151,7 @@ class Family:
     param_unit = ""
     variants = (0,)
     nuisance = False       # a nuisance term: judged like an effect, never a property of the device
+    time_only = False      # a function of time alone, as the drift is
 
     def unavailable(self, data):
         """None when the family applies to `data`, else the reason it does not."""
@@ -318,6 +319,7 @@ class WarmUp(TimeConstantFamily):
     So the search stops there and is not followed further."""
     name = "warm_up"
     SETTLED_TIME_CONSTANTS = 2.0
+    time_only = True
 
     def bounds(self, data):
         knots = max(Drift.variants)
