@@ -28,7 +28,7 @@ def moving_loads(draw):
     for _ in range(draw(st.integers(0, 3))):                       # pours, up or down
         a = int(rng.integers(0, n))
         length = int(rng.integers(2, 40))
-        slope = draw(st.sampled_from([0.5, 3.0, 10.0, 40.0, 300.0])) * sigma * (1 if rng.random() < 0.7 else -1)
+        slope = draw(st.sampled_from([0.5, 3.0, 5.0, 10.0, 40.0, 300.0])) * sigma * (1 if rng.random() < 0.7 else -1)
         ramp = slope * np.minimum(np.arange(n - a), length)
         truth[a:] += ramp
     for _ in range(draw(st.integers(0, 2))):                       # bumps
@@ -141,12 +141,48 @@ def test_pour_is_followed_with_at_most_one_sample_lag(fixed, slope_sigmas):
 
 
 @pytest.mark.parametrize("fixed", [False, True])
+def test_pour_of_5_sigma_per_sample_is_followed_from_its_second_sample(fixed):
+    """A pour of 5 sigma per sample: its first sample lies within A0 (6 sigma)
+    and is averaged in; the second, rejected, starts the ramp when the first
+    moved more than A0/2 and the two steps agree within a factor 2 - in most
+    pours (measured 30 of 40 float, 32 fixed; 5 before this rule, which held
+    the second sample)."""
+    sigma = 4.0
+    started = 0
+    for seed in range(40):
+        truth, noise = _settled(200, sigma, 100 + seed)
+        truth[150:] += 5.0 * sigma * np.minimum(np.arange(1, 51), 10)
+        out, stable, status = C.Chain(fixed=fixed).process(np.rint(truth + noise), flags=True)
+        started += bool(status[151] & C.CHAIN_RAMP) and abs(out[151] - truth[151]) <= 4 * sigma
+    assert started >= 25
+
+
+@pytest.mark.parametrize("fixed", [False, True])
+@pytest.mark.parametrize("size", [50.0, -50.0, 3e3, 8e6])
+def test_glitch_after_a_sample_far_out_stays_rejected(fixed, size):
+    """A still load, a sample 3.5..5.5 sigma out (within A0), then a glitch on
+    the same side: the glitch's step is far from the first one's, so it is
+    held as an impulse, not taken as the start of a ramp."""
+    sigma = 4.0
+    truth, noise = _settled(200, sigma, 3)
+    x = np.rint(truth + noise)
+    for first in (3.5, 4.5, 5.5):
+        g = x.copy()
+        g[150] = truth[150] + np.sign(size) * first * sigma
+        g[151] = truth[151] + size * sigma
+        out, stable, status = C.Chain(fixed=fixed).process(g, flags=True)
+        assert status[151] & C.WARN_REJECTED and not status[151] & C.CHAIN_RAMP
+        assert abs(out[151] - truth[151]) <= 2 * sigma
+
+
+@pytest.mark.parametrize("fixed", [False, True])
 def test_single_and_paired_glitches_stay_rejected(fixed):
     """Glitches of one and two samples (pairs at one level) on a still load
     and during a pour: the output stays within a sigma of the glitch-free
-    run's output of this or the sample before (a glitch in a pour costs at
-    most one sample of lag, never a value beyond the load), and stable drops
-    on the replaced samples."""
+    run's output of this or the sample before, except that a glitch in a pour
+    beyond the last value shows the ramp's prediction (within 4 sigma of the
+    load, less than half a sample of lag) and one behind it the last value
+    (one sample of lag); stable drops on the replaced samples."""
     sigma = 5.0
     truth, noise = _settled(400, sigma, 9)
     truth[250:] += 60.0 * sigma * np.minimum(np.arange(1, 151), 40)
@@ -159,7 +195,11 @@ def test_single_and_paired_glitches_stay_rejected(fixed):
         g = x.copy()
         g[at:at + width] = g[at] + size
         out, stable, status = C.Chain(fixed=fixed).process(g, flags=True)
-        assert np.all((out >= lo) & (out <= hi)), (at, width)
+        inside = (out >= lo) & (out <= hi)
+        if at > 250 and size > 0:               # beyond the last value of an upward pour
+            assert abs(out[at] - truth[at]) <= 4 * sigma     # the slope is 60 sigma a sample
+            inside[at] = True
+        assert np.all(inside), (at, width)
         assert np.all(status[at:at + width] & C.WARN_REJECTED)
         assert not np.any(stable[at:at + width])
 
@@ -184,15 +224,17 @@ def test_step_held_as_impulses_is_never_stable(fixed):
 @pytest.mark.parametrize("slope_sigmas", [0.5, 1.0, 1.5, 2.0])
 def test_slow_move_from_a_settled_load_drops_stable_early(fixed, slope_sigmas):
     """A load that begins to move by 0.5..2 sigma per sample from a settled
-    level: the motion test needs a few samples to trip, the residual's
-    CUSUM (allowance sigma, alarm 2 sigma) drops `stable` one or two samples
-    earlier.  Over 40 noise draws at most 5 runs have a sample flagged
-    stable more than 3 sigma off the load (measured 1, 2, 4, 3 runs at
-    0.5, 1, 1.5, 2 sigma per sample; without the CUSUM 17, 15, 16, 7: the
-    output held the old level as stable for a sample or two).  Zero is
-    not reachable on a per-sample flag judged on noisy samples: the first
-    sample 3 sigma off can look 1-2 sigma off to any causal test.  On the
-    still load before the move the flag stays up (>= 90 % of it)."""
+    level: the motion test needs a few samples to trip; the trend test (the
+    weighted mean of sample - output, weight 1/2, within 2 of its standard
+    deviations of 0) drops `stable` before the output lags 3 sigma behind.
+    Over 40 noise draws at most 2 runs have a sample flagged stable more
+    than 3 sigma off the load (measured 0, 0, 0, 1 runs at 0.5, 1, 1.5, 2
+    sigma per sample, float and fixed; with the CUSUM before it, allowance
+    sigma and alarm 2 sigma, 1, 2, 4, 3; with no trend test 17, 15, 16, 7).
+    Zero is not reachable on a per-sample flag judged on noisy samples for
+    every move: the first sample 3 sigma off can look 2 sigma off to any
+    causal test.  On the still load before the move the flag stays up
+    (>= 90 % of it; measured 94 %)."""
     sigma, runs, still = 70.0, 0, []
     for seed in range(40):
         truth, noise = _settled(200, sigma, seed)
@@ -201,9 +243,33 @@ def test_slow_move_from_a_settled_load_drops_stable_early(fixed, slope_sigmas):
         out, stable = C.Chain(fixed=fixed).process(x)
         runs += _false_stable(out, stable, truth, sigma) > 0
         still.append(np.mean(stable[40:120]))
-    assert runs <= 5
+    assert runs <= 2
     assert np.mean(still) >= 0.9
 
+
+
+class _NoTrendTest(R.Chain):
+    """The spec with the trend test left out: what the rest of the backing costs."""
+
+    def _trend(self, r):
+        self.trending = False
+
+
+@pytest.mark.parametrize("fixed", [False, True])
+def test_trend_test_costs_a_still_load_what_a_95_percent_test_does(fixed):
+    """On a still load with Gaussian noise the weighted mean of sample -
+    output (weight 1/2: standard deviation sigma / sqrt(3), a little more
+    as the output has its own noise) leaves its band of 2 standard
+    deviations on about 5 % of the samples, so the trend test drops
+    `stable` on that share and no more (measured 5.2 % float and fixed over
+    20 000 samples at 70 codes of noise; the rest of the backing costs
+    0.6 %)."""
+    rng = np.random.default_rng(11)
+    x = np.rint(5000.0 + 70.0 * rng.standard_normal(20000))
+    with_trend = C.Chain(fixed=fixed).process(x)[1][200:].mean()
+    without = _NoTrendTest(fixed=fixed).process(x)[1][200:].mean()
+    assert without >= 0.99
+    assert 0.03 <= without - with_trend <= 0.07
 
 # ---- impulses and motion told apart ------------------------------------------------
 

@@ -46,7 +46,10 @@
  *    Ramps (a pour is a load change, not a glitch): when the limit rejects
  *    a second sample on one side and it lies further out than the first by
  *    more than A0/2 (and the two steps out, Dc to the first and the first to
- *    the second, within a factor 4 of each other), both moved on: it is taken (status
+ *    the second, within a factor 4 of each other), both moved on - or a first
+ *    rejected sample when the sample before, accepted, lay more than A0/2 out
+ *    on the same side and the two steps agree within a factor 2 (a ramp of
+ *    3-6 sigma per sample, whose first sample is within A0) - it is taken (status
  *    SIG_LIMIT_RESEEDED | SIG_CHAIN_RAMP) and the load is followed as a
  *    ramp - each sample within A0 of last + slope is the output (the window
  *    holds it alone; SIG_CHAIN_RAMP), the slope moving half way to each new
@@ -60,10 +63,11 @@
  *    prediction and no farther from it than the ramp's last value, the start
  *    was a glitch pair:
  *    the level before it is held and the window restarts from it
- *    (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED); otherwise the last followed
- *    value is held, the ramp predicted two
- *    slopes on (one glitch in a pour), and a second rejection in a row ends
- *    it.  Single glitches and pairs at one level stay rejected.
+ *    (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED); otherwise the prediction is
+ *    held when the sample lies beyond it on the ramp's side (a glitch in a
+ *    pour), else the last followed value (a bump's top, a swing turning),
+ *    the ramp predicted two slopes on, and a second rejection in a row ends
+ *    it (the last followed value held).  Single glitches and pairs at one level stay rejected.
  *    Stable only when the output is backed by the samples: the stability
  *    detector's verdict is reported only on a sample that was not replaced,
  *    held, re-seeded, a motion restart or a ramp sample, with a full window
@@ -73,10 +77,11 @@
  *    creeping or swinging out), the sample within
  *    3 sigma of the output (near_band), the window's trimmed mean within
  *    1 sigma of it (a load that has begun to move faster than the output
- *    follows) and no trend: a two-sided CUSUM of the sample's residual
- *    (sample - output, allowance sigma, started again with the window) at
- *    most 2 sigma on either side (a load that moves by a few sigma per
- *    sample, too slowly for the motion test to trip at once).
+ *    follows) and no trend: the exponentially weighted mean (weight 1/2)
+ *    of the sample's residual (sample - output, started again with the
+ *    window) within 2 of its standard deviations, 2 sigma / sqrt(3), of 0
+ *    (a load that moves by a few sigma per sample, too slowly for the
+ *    motion test to trip at once; sig_chain_stages.h).
  *
  * Start of the Kalman estimate: seed_first takes the first window mean;
  * without it the estimate starts from x0 and the parameters must trust the
@@ -169,7 +174,7 @@ typedef struct {
     sig_real pred;          /* the ramp's prediction for this sample */
     sig_real prev_x;        /* last finite sample */
     sig_real near_band;     /* 3 sigma */
-    sig_real trend_up, trend_dn;    /* the residual's CUSUMs (above) */
+    sig_real trend_mean;    /* the residual's weighted mean (above) */
     bool ramp, missed, paused;   /* following a ramp; its last sample held; it looked stopped */
     bool followed;          /* a sample followed since the ramp began */
     bool settled;           /* the stability detector's own verdict */
@@ -194,7 +199,7 @@ typedef struct {
     int32_t slope, last, origin, prev_x;   /* codes (|slope| <= 2^25) */
     int32_t pred;           /* codes */
     int32_t near_band;      /* Q24.7 */
-    int32_t trend_up, trend_dn;    /* Q24.7 */
+    int32_t trend_mean;     /* Q24.7 */
     bool trending;          /* this sample's trend verdict */
     bool ramp, missed, paused, followed, settled;
     int32_t anchor;         /* Q24.7 */

@@ -43,37 +43,44 @@
  *                fade, the sums never overflow, heating and cooling
  *                samples are summed alike.
  *   still residual  r = the stored model's output for the still sample
- *                (the caller computes it anyway: sig_tmodel_apply), in LSB,
- *                clamped to +-2047; the raw reading when no model is in use.
+ *                (the caller computes it anyway: sig_tmodel_apply), in LSB;
+ *                the raw reading when no model is in use.
  *   blocks       the residuals of SIG_LEARN_BLOCK = 8 still samples
- *                (within the model's range) are summed (int16,
- *                |B| <= 8 * 2047); the noise estimate runs once per full
- *                block, a per-sample add in between (the MSP430 cost goal).
- *                Moving samples are left out (a block is 8 still samples
- *                however spread); a still sample beyond the model's range
- *                or a new model drops the partial block and breaks the
- *                series of pairs.
+ *                (within the model's range), each clamped to
+ *                +-SIG_LEARN_CUSUM_X_MAX (511 LSB), are summed (int16,
+ *                |B| <= 8 * 511); the noise estimate and the CUSUM run once
+ *                per full block, a clamp and an add per sample in between
+ *                (the MSP430 cost goal).  Moving samples are left out (a
+ *                block is 8 still samples however spread); a still sample
+ *                beyond the model's range or a new model drops the partial
+ *                block and breaks the series of pairs.
  *   noise        per axis N += d - (N >> 5), uint16, over successive block
  *                sums, d = min(|B - B_prev|, 2047): N / 32 is an EWMA over
  *                32 blocks of d, kept x32 so that the floor of the update
  *                does not bias it (N <= 32 * 2047 < 2^16); for white noise
  *                E|B - B_prev| = 2 sigma_B / sqrt(pi) ~ 1.13 sigma_B and one
- *                sample's sigma is sigma_B / sqrt(8).
- *   CUSUM        per axis, two-sided, int16, per still sample in the
- *                model's range, on x = 16 r with r clamped to
- *                +-SIG_LEARN_CUSUM_X_MAX (511 LSB: |x| <= 8176):
- *                  S+ = max(0, S+ + x - k),  S- = max(0, S- - x - k)
- *                stale when S+ > h or S- > h.  k = k_sigma * sigma and
+ *                sample's sigma is sigma_B / sqrt(8).  (A residual beyond
+ *                511 LSB counts as one of 511 here too: the model is then
+ *                off by far more than any noise the test is tuned to.)
+ *   CUSUM        per axis, two-sided, per block, on the block sum (Q4):
+ *                  S+ = max(0, S+ + 16 B - 8 k),  S- = max(0, S- - 16 B - 8 k)
+ *                stale when S+ > h or S- > h: the per-sample CUSUM on
+ *                x = 16 r - k with max(0, .) taken at block ends only, so
+ *                at every block end S is at most the per-sample S (max is
+ *                monotone): no more false alarms, a shift found at most a
+ *                block (8 still samples) later.  k = k_sigma * sigma and
  *                h = h_sigma * sigma (k_sigma, h_sigma in Q4), both limited
  *                to SIG_LEARN_CUSUM_MAX (16383), sigma (one sample's, Q4)
  *                = max(sigma_floor, N * 642 / 2^12), refreshed by every
  *                sig_learn_solve (no multiply per sample); the test runs once
- *                a solve has set them after >= 32 block pairs.  Width: S
- *                <= h before a sample, so |S + x - k| <= 16383 + 8176 <
- *                2^15; a crossing ends the test until a model is put in use
- *                (a residual beyond 511 LSB counts as one of 511).
- *                Skipped (SIG_LEARN_EXTRAPOLATED) outside the stored model's
- *                range: there its correction is extrapolated, not learned.
+ *                a solve has set them after >= 32 block pairs.  Width:
+ *                every term is a multiple of 8, so the C keeps S / 8 (Q1)
+ *                in int16: S1 = max(0, S1 + 2 B - k), stale when S1 > h >> 3
+ *                (the same crossings: S1 is an integer); S1 <= 2047 before
+ *                a block, |2 B| <= 8176, k <= 16383: |S1 + 2 B - k| < 2^15.
+ *                A crossing ends the test until a model is put in use.  Skipped (SIG_LEARN_EXTRAPOLATED) outside the stored
+ *                model's range: there its correction is extrapolated, not
+ *                learned.
  *   On stale     SIG_LEARN_STALE is returned by every step until a new model
  *                is put in use; the bins are cleared (their samples describe
  *                the sensor before the shift) and learning starts again.
@@ -83,7 +90,10 @@
  *                >= min_bins (>= 3) covered bins, else nothing is done.
  *   points       per covered bin i, Q4: T_i = 16 * (bin_lo - t_base) +
  *                rdiv(16 sum_dt, count), Y_i[a] = rdiv(16 sum_y[a], count),
- *                rdiv(n, d) = sign(n) * floor((|n| + d/2) / d).
+ *                rdiv(n, d) = sign(n) * floor((|n| + d/2) / d).  (One
+ *                reciprocal per bin was tried: on the MSP430 its variable
+ *                32-bit shifts cost clang 14's helper loops more than the
+ *                divisions it saves.)
  *   interpolation between points (Tj, Yj), (Tl, Yl) at T (Q4):
  *                f = floor((n << 12) / d) (Q12, 0..4096) with n = T - Tj,
  *                d = Tl - Tj both halved (floor) until d < 2^15 (the divisor
@@ -136,8 +146,8 @@
 #define SIG_LEARN_Y_MAX      2047
 #define SIG_LEARN_Y_BIAS     2047
 #define SIG_LEARN_ACC_MAX    16u   /* pending samples of one bin before they go into its sums */
-#define SIG_LEARN_BLOCK      8u    /* still samples per block of the noise estimate */
-#define SIG_LEARN_CUSUM_X_MAX 511   /* |residual| the CUSUM adds, LSB */
+#define SIG_LEARN_BLOCK      8u    /* still samples per block of the noise estimate and the CUSUM */
+#define SIG_LEARN_CUSUM_X_MAX 511   /* |residual| a block sum adds, LSB */
 #define SIG_LEARN_CUSUM_MAX  16383 /* k and h, Q4 LSB */
 #define SIG_LEARN_MAX_SHIFT  10u
 #define SIG_LEARN_NOISE_MIN_N 32u   /* block pairs before the CUSUM is armed */
@@ -175,7 +185,7 @@ typedef struct {
     uint16_t acc_dt, acc_lo;             /* pending sum of dt (< 2^14); the bin's lower edge - t_base */
     uint8_t acc_bin, acc_n;              /* the pending bin, its samples (< 16) */
     uint8_t acc_room;                    /* pending samples before a flush: min(16, 2048 - count[acc_bin]) */
-    int16_t cusum_pos[SIG_LEARN_MAX_AXES], cusum_neg[SIG_LEARN_MAX_AXES];
+    int16_t cusum_pos[SIG_LEARN_MAX_AXES], cusum_neg[SIG_LEARN_MAX_AXES];  /* Q1 LSB: S / 8, <= h / 8 before a block */
     int16_t k[SIG_LEARN_MAX_AXES], h[SIG_LEARN_MAX_AXES];  /* Q4 LSB, <= 16383; h == 0: test not armed */
     uint16_t noise[SIG_LEARN_MAX_AXES];                    /* N: 32 x the EWMA of |d|, LSB */
     int16_t prev_r[SIG_LEARN_MAX_AXES];                    /* the previous block's sum */

@@ -1,8 +1,8 @@
 /* sig_learn.c - the learner's per-sample path: bin sums of still samples,
  * the noise estimate and the CUSUM staleness test (sig_learn.h).  No
- * division, no multiply: the CUSUM thresholds come from sig_learn_solve;
- * the noise estimate and the CUSUM run once per block of 8 still samples
- * (a per-sample add in between). */
+ * division: the CUSUM thresholds come from sig_learn_solve; the noise
+ * estimate and the CUSUM run once per block of 8 still samples (a clamp and
+ * an add per sample in between). */
 #include "sig_learn.h"
 
 static void break_series(sig_learn *s);
@@ -104,38 +104,51 @@ sig_status sig_learn_use_model(sig_learn *s, const sig_tmodel *m)
 void sig_learn_flush(sig_learn *s)
 {
     uint8_t a, b = s->acc_bin, n = s->cfg.n_axes;
+    /* the new count in a local, tested there: sdcc 4.2 (mcs51) reloaded
+     * s->count[b] for the test with its two bytes swapped through
+     * "mov ar6,r7; mov ar7,r6" (both then the low byte), so a bin of 8 or
+     * more samples compared as >= 2048 and was halved at every flush */
+    uint16_t c = (uint16_t)(s->count[b] + s->acc_n);
     if (s->acc_n == 0u) return;
     s->sum_dt[b] += s->acc_dt;
     for (a = 0u; a < n; a++) {
         s->sum_y[a][b] += s->acc_y[a];
         s->acc_y[a] = 0u;
     }
-    s->count[b] = (uint16_t)(s->count[b] + s->acc_n);
     s->acc_dt = 0u;
     s->acc_n = 0u;
-    if (s->count[b] >= SIG_LEARN_COUNT_MAX) {
+    if (c >= SIG_LEARN_COUNT_MAX) {
         /* halve: the sums keep their width and old samples fade */
-        s->count[b] >>= 1;
+        c >>= 1;
         s->sum_dt[b] >>= 1;
         for (a = 0u; a < n; a++) s->sum_y[a][b] >>= 1;
     }
+    s->count[b] = c;
 }
 
 /* Add a still sample to the pending sums of its bin; SIG_LEARN_SKIPPED when
  * it has none.  16-bit arithmetic only (the MSP430 widens a signed int16 to
- * 32 bits with a 7-step shift): the grid spans at most 16 * 2^10 units. */
+ * 32 bits with a 7-step shift): the grid spans at most 16 * 2^10 units.  The
+ * axes are written out (no loop): the loop's control costs the MSP430 as much
+ * as the adds; the pending sums of absent axes get 0 and stay 0. */
 static sig_status learn_sample(sig_learn *s, int16_t t, const int16_t *raw)
 {
-    uint16_t biased[SIG_LEARN_MAX_AXES];
+    uint16_t y0, y1 = 0u, y2 = 0u;
     uint16_t d16, d0, dt;
     uint8_t a, b, n = s->cfg.n_axes;
     if (t < s->cfg.t_base) return SIG_LEARN_SKIPPED;
     d16 = (uint16_t)((uint16_t)t - (uint16_t)s->cfg.t_base);     /* t >= t_base: 0..65535 */
     if (d16 >= s->grid_span) return SIG_LEARN_SKIPPED;
-    for (a = 0u; a < n; a++) {
-        /* |raw| <= 2047 as one unsigned compare; wraps above 4094 otherwise */
-        biased[a] = (uint16_t)((uint16_t)raw[a] + (uint16_t)SIG_LEARN_Y_BIAS);
-        if (biased[a] > 2u * (uint16_t)SIG_LEARN_Y_MAX) return SIG_LEARN_SKIPPED;
+    /* |raw| <= 2047 as one unsigned compare of raw + 2047 <= 4094 (wraps above otherwise) */
+    y0 = (uint16_t)((uint16_t)raw[0] + (uint16_t)SIG_LEARN_Y_BIAS);
+    if (y0 > 2u * (uint16_t)SIG_LEARN_Y_MAX) return SIG_LEARN_SKIPPED;
+    if (n > 1u) {
+        y1 = (uint16_t)((uint16_t)raw[1] + (uint16_t)SIG_LEARN_Y_BIAS);
+        if (y1 > 2u * (uint16_t)SIG_LEARN_Y_MAX) return SIG_LEARN_SKIPPED;
+        if (n > 2u) {
+            y2 = (uint16_t)((uint16_t)raw[2] + (uint16_t)SIG_LEARN_Y_BIAS);
+            if (y2 > 2u * (uint16_t)SIG_LEARN_Y_MAX) return SIG_LEARN_SKIPPED;
+        }
     }
     dt = (uint16_t)(d16 - s->acc_lo);           /* wraps high below the pending bin */
     if (s->acc_n == 0u || dt >= s->bin_w[3]) {
@@ -161,7 +174,9 @@ static sig_status learn_sample(sig_learn *s, int16_t t, const int16_t *raw)
                                 ? SIG_LEARN_COUNT_MAX - s->count[b] : SIG_LEARN_ACC_MAX);
     }
     s->acc_dt = (uint16_t)(s->acc_dt + dt);
-    for (a = 0u; a < n; a++) s->acc_y[a] = (uint16_t)(s->acc_y[a] + biased[a]);
+    s->acc_y[0] = (uint16_t)(s->acc_y[0] + y0);
+    s->acc_y[1] = (uint16_t)(s->acc_y[1] + y1);
+    s->acc_y[2] = (uint16_t)(s->acc_y[2] + y2);
     if (++s->acc_n >= s->acc_room) sig_learn_flush(s);
     return SIG_OK;
 }
@@ -184,54 +199,58 @@ static void break_series(sig_learn *s)
     s->have_prev = false;
 }
 
-/* A full block: the noise estimate from successive block sums (the ~30
- * instructions of the pair spread over 8 still samples). */
-static void watch_block(sig_learn *s)
+/* A full block: the noise estimate from successive block sums, then the
+ * CUSUM on the block sum (sig_learn.h: CUSUM); true when it crossed.  Once
+ * per 8 still samples, so the per-sample path is a clamp and an add. */
+static bool watch_block(sig_learn *s)
 {
     uint8_t a, n = s->cfg.n_axes;
-    int16_t x, p;
+    int16_t x, p, x2, pos, neg;
     uint16_t d;
+    bool crossed = false;
+    /* refresh_thresholds arms every axis at once, each with h >= 1 */
+    bool armed = s->has_model && s->h[0] != 0;
     for (a = 0u; a < n; a++) {
         x = s->block_sum[a];
         s->block_sum[a] = 0;
         if (s->have_prev) {
             p = s->prev_r[a];
-            d = x >= p ? (uint16_t)(x - p) : (uint16_t)(p - x);    /* <= 32752 */
+            d = x >= p ? (uint16_t)(x - p) : (uint16_t)(p - x);    /* <= 8176 */
             if (d > (uint16_t)SIG_LEARN_Y_MAX) d = (uint16_t)SIG_LEARN_Y_MAX;
             s->noise[a] = (uint16_t)(s->noise[a] + d - (uint16_t)(s->noise[a] >> 5));
         }
         s->prev_r[a] = x;
+        if (armed) {
+            /* Q1, an eighth of the Q4 sums (sig_learn.h: CUSUM): int16 */
+            x2 = (int16_t)(x + x);                               /* |x2| <= 8176 */
+            pos = (int16_t)(s->cusum_pos[a] + x2 - s->k[a]);
+            neg = (int16_t)(s->cusum_neg[a] - x2 - s->k[a]);
+            s->cusum_pos[a] = pos > 0 ? pos : 0;
+            s->cusum_neg[a] = neg > 0 ? neg : 0;
+            if (pos > (s->h[a] >> 3) || neg > (s->h[a] >> 3)) crossed = true;
+        }
     }
     if (s->have_prev && s->noise_n < UINT16_MAX) s->noise_n++;
     s->have_prev = true;
+    return crossed;
 }
 
-/* A still residual (r: resid, or raw when no model is in use): the CUSUM on
- * this sample when a model is in use and the thresholds are armed (per
- * sample: a test once per block waits for 8 still samples and detects a
- * shift later), then its block sum.  int16 throughout (sig_learn.h: width).
- * true when the CUSUM crossed. */
+/* A still residual (r: resid, or raw when no model is in use) into the
+ * block sums, clamped to +-SIG_LEARN_CUSUM_X_MAX (|sum| <= 8 * 511); the
+ * axes written out (no loop: its control costs the MSP430 as much as the
+ * adds; the sums of absent axes stay 0).  true when the block completed
+ * and its CUSUM crossed. */
 static bool watch_residual(sig_learn *s, const int16_t *r)
 {
-    uint8_t a, n = s->cfg.n_axes;
-    int16_t x, pos, neg;
-    bool crossed = false;
-    for (a = 0u; a < n; a++) {
-        if (s->has_model && s->h[a] != 0) {
-            x = (int16_t)(clamp16(r[a], SIG_LEARN_CUSUM_X_MAX) * 16);   /* Q4, |x| <= 8176 */
-            pos = (int16_t)(s->cusum_pos[a] + x - s->k[a]);
-            neg = (int16_t)(s->cusum_neg[a] - x - s->k[a]);
-            s->cusum_pos[a] = pos > 0 ? pos : 0;
-            s->cusum_neg[a] = neg > 0 ? neg : 0;
-            if (pos > s->h[a] || neg > s->h[a]) crossed = true;
-        }
-        s->block_sum[a] = (int16_t)(s->block_sum[a] + clamp16(r[a], SIG_LEARN_Y_MAX));  /* |sum| <= 8 * 2047 */
+    uint8_t n = s->cfg.n_axes;
+    s->block_sum[0] = (int16_t)(s->block_sum[0] + clamp16(r[0], SIG_LEARN_CUSUM_X_MAX));
+    if (n > 1u) {
+        s->block_sum[1] = (int16_t)(s->block_sum[1] + clamp16(r[1], SIG_LEARN_CUSUM_X_MAX));
+        if (n > 2u) s->block_sum[2] = (int16_t)(s->block_sum[2] + clamp16(r[2], SIG_LEARN_CUSUM_X_MAX));
     }
-    if (++s->block_n >= SIG_LEARN_BLOCK) {
-        s->block_n = 0u;
-        watch_block(s);
-    }
-    return crossed;
+    if (++s->block_n < SIG_LEARN_BLOCK) return false;
+    s->block_n = 0u;
+    return watch_block(s);
 }
 
 sig_status sig_learn_step(sig_learn *s, int16_t t, const int16_t *raw, const int16_t *resid, bool still)

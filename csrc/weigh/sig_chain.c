@@ -111,9 +111,15 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
     } while (0)
 
 /* After the limit: start, follow or end a ramp; *y is the limit's output,
- * replaced when the ramp takes the sample or holds a value.  A start needs
- * the sample to have moved on by more than A0/2 and its two steps out (Dc to
- * the first rejected sample, that to this one) within a factor 4. */
+ * replaced when the ramp takes the sample or holds a value.  A start on a
+ * second rejection needs the sample to have moved on by more than A0/2 and
+ * its two steps out (Dc to the first rejected sample, that to this one)
+ * within a factor 4; on a first rejection, the sample before (accepted)
+ * more than A0/2 out on the same side and the two steps within a factor 2
+ * (a ramp of 3-6 sigma per sample: its first sample is within A0; a swing
+ * turning back shrinks its step).  A held sample that lies beyond the prediction on the
+ * ramp's side (a glitch in a pour) shows the prediction, else the last
+ * followed value (a bump's top, a swing turning). */
 #define RAMP_AFTER(c, x, y, ret, finite, T, ZERO, HALF, ACCEPT, SET_REF) do {           \
         T d_, moved_, before_, a0_ = (c)->limit.a0;                                      \
         switch (sig_chain_ramp_case(&(c)->ramp, &(c)->missed, &(c)->paused, (ret),       \
@@ -142,8 +148,10 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
                 (void)SET_REF(&(c)->limit, (c)->origin);                                 \
                 *(y) = (c)->origin;                                                      \
                 (ret) = (sig_status)((ret) | SIG_LIMIT_RESEEDED);                        \
-            } else {                                                                     \
-                *(y) = (c)->last;                                                        \
+            } else {                          /* beyond the prediction: */               \
+                *(y) = !(c)->missed && ((c)->slope > ZERO ? (x) > (c)->pred              \
+                                                          : (x) < (c)->pred)             \
+                       ? (c)->pred : (c)->last;       /* the prediction, else last */    \
                 (ret) = sig_chain_ramp_hold(&(c)->ramp, &(c)->missed, &(c)->paused, (ret)); \
             }                                                                            \
             break;                                                                       \
@@ -152,8 +160,11 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
             moved_ = (c)->limit.t.side > 0 ? d_ : -d_;                                   \
             before_ = (c)->limit.t.side > 0 ? (c)->prev_x - (c)->limit.dc                \
                                             : (c)->limit.dc - (c)->prev_x;               \
-            if ((finite) && moved_ > HALF(a0_) && 4 * moved_ >= before_                  \
-                && moved_ <= 4 * before_) {                                              \
+            if ((finite) && ((c)->limit.t.run >= 2u                                      \
+                             ? moved_ > HALF(a0_) && 4 * moved_ >= before_               \
+                               && moved_ <= 4 * before_                                  \
+                             : before_ > HALF(a0_) && 2 * moved_ >= before_              \
+                               && moved_ <= 2 * before_)) {                              \
                 (c)->origin = (c)->limit.dc;                                             \
                 (void)ACCEPT(&(c)->limit, (x));                                          \
                 (c)->ramp = true;                                                        \
@@ -225,7 +236,7 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = SIG_REAL(0.0);
-    c->trend_up = c->trend_dn = SIG_REAL(0.0);
+    c->trend_mean = SIG_REAL(0.0);
     c->drift_age = 0u;
     c->drifting = true;
     (void)sig_noise_reset_f(&c->noise);
@@ -283,7 +294,7 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
         c->anchor = xk;
     }
     trending = c->noise_auto
-               && sig_chain_trend_f(c->ap.count < c->ap.n, y - xk, c->noise.sigma, &c->trend_up, &c->trend_dn);
+               && sig_chain_trend_f(c->ap.count < c->ap.n, y - xk, c->noise.sigma, &c->trend_mean);
     if (c->noise_auto && stab)
         stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, trending,
                                 y - xk <= c->near_band && xk - y <= c->near_band
@@ -407,7 +418,7 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = 0;
-    c->trend_up = c->trend_dn = 0;
+    c->trend_mean = 0;
     c->trending = false;
     c->drift_age = 0u;
     c->drifting = true;
@@ -465,7 +476,7 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
      * this frame on the chain's deepest call path */
     c->trending = c->noise_auto
                   && sig_chain_trend_q(c->ap.count < c->ap.n, sig_sat_sub32(codes_to_q7(y), xk), c->noise.sigma,
-                                       &c->trend_up, &c->trend_dn);
+                                       &c->trend_mean);
     if (c->noise_auto && stab)
         stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, c->trending,
                                 sig_abs32_sat(sig_sat_sub32(codes_to_q7(y), xk)) <= c->near_band

@@ -37,7 +37,7 @@
         gate.rejected_prev = c->gate.rejected_prev; gate.holdoff = c->gate.holdoff; gate.frozen = c->gate.frozen; \
         stab = c->stable; settled = c->settled; \
         anchor = c->anchor; dage = c->drift_age; drifting = c->drifting; \
-        tup = c->trend_up; tdn = c->trend_dn; \
+        tmean = c->trend_mean; \
         fast = c->limit.t.seeded && held != 0u && c->kf.seeded && c->st.has_prev && !c->ramp \
                && mx <= FAST_MAX && mn >= -FAST_MAX; \
     } while (0)
@@ -53,7 +53,7 @@
         c->gate.rejected_prev = gate.rejected_prev; c->gate.holdoff = gate.holdoff; c->gate.frozen = gate.frozen; \
         c->stable = stab; c->settled = settled; \
         c->anchor = anchor; c->drift_age = dage; c->drifting = drifting; \
-        c->trend_up = tup; c->trend_dn = tdn; \
+        c->trend_mean = tmean; \
     } while (0)
 
 /* The batch form of sig_chain_step_f: x[0..n) -> out, stable (0/1).
@@ -66,8 +66,9 @@
  * on the window's trimmed mean while the window fills or the detector has
  * not settled, the drift blocks, the backing of `stable`, the noise gate
  * and estimator and the thresholds from the new sigma (in the locals,
- * written back with the rest of the hot state); a ramp, and a second
- * rejection on one side (a ramp may start), go to the step path.  Results
+ * written back with the rest of the hot state); a ramp, and a rejection
+ * that may start one (a second on one side, or a first after a sample more
+ * than A0/2 out on that side), go to the step path.  Results
  * are those of n calls of sig_chain_step_f, bit for bit (tests/test_chain.py,
  * tests/test_chain_batch_auto.py, tests/test_chain_c.py); the status
  * returned is the last sample's (a non-finite sample before the first
@@ -78,7 +79,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
     sig_status st;
     bool s, conv, fast, accept, stab, settled, drifting, trending, nauto, seed_first, update;
     sig_real dc, sum, mx, mn, kx, kp, kk, prev, offset;      /* hot state */
-    sig_real anchor, tup, tdn;                               /* noise_auto: hot state too, */
+    sig_real anchor, tmean;                                  /* noise_auto: hot state too, */
     sig_noise_f nz;                 /* with the estimator and its gate (copied field by field: */
     sig_chain_gate gate;            /* a whole-struct copy costs a store-forwarding stall) */
     uint8_t head, held, lrun, srun, mrun, dage;
@@ -116,7 +117,9 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
         } else {
             side = d > SIG_REAL(0.0) ? (int8_t)1 : (int8_t)-1;
             nrun = side != lside ? 1u : (lrun < 255u ? (uint8_t)(lrun + 1u) : lrun);
-            if (!fast || accept || (lockout_n != 0u && nrun >= lockout_n) || (nauto && nrun >= 2u)) {
+            if (!fast || accept || (lockout_n != 0u && nrun >= lockout_n)
+                || (nauto && (nrun >= 2u                 /* a ramp may start (sig_chain.c) */
+                              || (side > 0 ? c->prev_x - dc : dc - c->prev_x) > a0 * SIG_REAL(0.5)))) {
                 HOT_STORE_F();
                 if (sig_chain_step_f(c, xi, &out[i], &s) < 0) {
                     out[i] = xi - xi;          /* NaN: non-finite before the first finite sample */
@@ -213,7 +216,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
                 if (held == wn) drifting = xk - anchor > nz.sigma || anchor - xk > nz.sigma;
                 anchor = xk;
             }
-            trending = sig_chain_trend_f(held < wn, y - xk, nz.sigma, &tup, &tdn);
+            trending = sig_chain_trend_f(held < wn, y - xk, nz.sigma, &tmean);
             if (s)
                 s = sig_chain_backed(st, held, wn, mrun, drifting, trending,
                                      y - xk <= nearb && xk - y <= nearb && m - xk <= nz.sigma && xk - m <= nz.sigma);

@@ -59,11 +59,11 @@ SIG_CHAIN_STAGE bool sig_chain_ramp_stop(bool looks_stopped, bool *on, bool *mis
 #define SIG_CHAIN_RAMP_NONE 0u
 #define SIG_CHAIN_RAMP_FOLLOW 1u     /* accepted within A0 of the prediction */
 #define SIG_CHAIN_RAMP_BROKEN 2u     /* rejected: back near the origin, or hold */
-#define SIG_CHAIN_RAMP_TRY 3u        /* second rejection on one side: a ramp if it moved on */
+#define SIG_CHAIN_RAMP_TRY 3u        /* a rejection on one side: a ramp if it and the one before moved on */
 SIG_CHAIN_STAGE uint8_t sig_chain_ramp_case(bool *on, bool *missed, bool *paused, sig_status ret, uint8_t run)
 {
     bool rejected = (ret & SIG_WARN_REJECTED) != 0;
-    if (!*on) return rejected && run >= 2u ? SIG_CHAIN_RAMP_TRY : SIG_CHAIN_RAMP_NONE;
+    if (!*on) return rejected && run >= 1u ? SIG_CHAIN_RAMP_TRY : SIG_CHAIN_RAMP_NONE;
     if ((ret & SIG_LIMIT_RESEEDED) != 0) {
         *on = *missed = *paused = false;
         return SIG_CHAIN_RAMP_NONE;
@@ -115,47 +115,39 @@ SIG_CHAIN_STAGE bool sig_chain_backed(sig_status ret, uint8_t held, uint8_t n, u
         && held == n && motion_run == 0u && !drifting && !trending && near;
 }
 
-/* noise_auto: a two-sided CUSUM of the sample's residual r = y - output,
- * allowance sigma, alarm above 2 sigma (sig_chain.h): a load that has begun
- * to move by a few sigma per sample shows here one or two samples before the
- * motion test trips, while on a still load the sums rarely pass 2 sigma.
- * Both sums start again with the window (refilling).  True while either
- * sum is above 2 sigma. */
+/* noise_auto: the trend test (sig_chain.h).  The residual r = y - output
+ * goes into an exponentially weighted mean with weight 1/2 (the sample
+ * 1/2, the one before 1/4, ...); on a still load its standard deviation is
+ * sigma / sqrt(3), and the test is two-sided at 2 of them (95 %): a load
+ * that has begun to move by 1-3 sigma per sample moves the mean out within
+ * a sample or two, before the output lags 3 sigma behind it.  The mean
+ * starts again with the window (refilling).  True while |mean| is beyond
+ * the band, 2 / sqrt(3) = 1.1547 sigma taken as 37/32 sigma (shifts in the
+ * fixed form). */
 #ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
-SIG_CHAIN_STAGE bool sig_chain_trend_f(bool refilling, sig_real r, sig_real sigma, sig_real *up, sig_real *dn)
+SIG_CHAIN_STAGE bool sig_chain_trend_f(bool refilling, sig_real r, sig_real sigma, sig_real *mean)
 {
-    sig_real u, d;
+    sig_real e, band;
     if (refilling) {
-        *up = *dn = SIG_REAL(0.0);
+        *mean = SIG_REAL(0.0);
         return false;
     }
-    /* in locals, each clamp a max and one test of the larger sum: the
-     * residual's sign is random, a branch on it would be mispredicted half
-     * the time (the batch path runs this on every sample) */
-    u = *up + r - sigma;
-    d = *dn - r - sigma;
-    u = (u + (u < SIG_REAL(0.0) ? -u : u)) * SIG_REAL(0.5);   /* max(u, 0) without a branch */
-    d = (d + (d < SIG_REAL(0.0) ? -d : d)) * SIG_REAL(0.5);
-    *up = u;
-    *dn = d;
-    return (u > d ? u : d) > sigma + sigma;
+    e = *mean + (r - *mean) * SIG_REAL(0.5);
+    *mean = e;
+    band = sigma * SIG_REAL(1.15625);
+    return e > band || -e > band;
 }
 #endif /* SIG_NO_FLOAT */
 
-/* the fixed form: r and sigma in Q24.7, saturating */
-SIG_CHAIN_STAGE bool sig_chain_trend_q(bool refilling, int32_t r, int32_t sigma, int32_t *up, int32_t *dn)
+/* the fixed form: r and sigma in Q24.7 (0 <= sigma <= 2^27), saturating */
+SIG_CHAIN_STAGE bool sig_chain_trend_q(bool refilling, int32_t r, int32_t sigma, int32_t *mean)
 {
-    int32_t u, d, two;
     if (refilling) {
-        *up = *dn = 0;
+        *mean = 0;
         return false;
     }
-    u = sig_sat_sub32(sig_sat_add32(*up, r), sigma);
-    d = sig_sat_sub32(sig_sat_sub32(*dn, r), sigma);
-    *up = u > 0 ? u : 0;
-    *dn = d > 0 ? d : 0;
-    two = sig_sat_add32(sigma, sigma);
-    return *up > two || *dn > two;
+    *mean = sig_sat_add32(*mean, sig_asr32(sig_sat_sub32(r, *mean), 1u));
+    return sig_abs32_sat(*mean) > sigma + (sigma >> 3) + (sigma >> 5);
 }
 
 #ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */

@@ -235,23 +235,84 @@ def creep_f(x, double alpha, double k, state=None):
     return c, y, (float(s.lag.z), bool(s.lag.primed))
 
 
+ctypedef fused applied_q:
+    sig_gain_q
+    sig_nonlin_q
+    sig_cross_q
+
+ctypedef fused applied_f:
+    sig_gain_f
+    sig_nonlin_f
+    sig_cross_f
+
+
+def _side_input(side, dtype, Py_ssize_t n, what):
+    """The second input of an effect, one entry or row per reading (the
+    gain's temperatures, the cross-axis rows of other axes), as a contiguous
+    `dtype` array; `what` names it in the error when its length is not `n`
+    (`"gain: {m} temperatures"`)."""
+    arr = np.ascontiguousarray(side, dtype=dtype)
+    if arr.shape[0] != n:
+        raise RangeError(what.format(m=arr.shape[0]) + f" for {n} readings")
+    return arr
+
+
+cdef tuple _apply_q(applied_q *m, x, side, what):
+    """A stateless fixed effect over int32 x: (out int32, status int16 per
+    reading); `side` as _side_input takes it (None for the nonlinearity)."""
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] xs = _i32(x)
+    cdef Py_ssize_t n = xs.shape[0], i
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] us
+    cdef cnp.ndarray[cnp.int32_t, ndim=2] os
+    if applied_q is sig_gain_q:
+        us = _side_input(np.ravel(side), np.int16, n, what)
+    elif applied_q is sig_cross_q:
+        os = _side_input(side, np.int32, n, what)
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(n, dtype=np.int32)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
+    with nogil:
+        for i in range(n):
+            if applied_q is sig_gain_q:
+                st[i] = sig_gain_apply_q(m, us[i], xs[i], &out[i])
+            elif applied_q is sig_nonlin_q:
+                st[i] = sig_nonlin_apply_q(m, xs[i], &out[i])
+            else:
+                st[i] = sig_cross_apply_q(m, xs[i], &os[i, 0], &out[i])
+    return out, st
+
+
+cdef _apply_f(applied_f *m, x, rows, what, refused):
+    """A stateless float effect over float64 x: the output; `rows` the second
+    input as a 2-D array, one row per reading (None for the nonlinearity); the
+    first reading the C refuses raises NonFiniteError (`refused`, at its index)."""
+    cdef cnp.ndarray[cnp.float64_t, ndim=1] xs = _f64(x)
+    cdef cnp.ndarray[cnp.float64_t, ndim=2] side
+    if applied_f is not sig_nonlin_f:
+        side = _side_input(rows, np.float64, xs.shape[0], what)
+    cdef cnp.ndarray[cnp.float64_t, ndim=1] out = np.empty(xs.shape[0], dtype=np.float64)
+    cdef double y
+    cdef sig_status rc
+    cdef Py_ssize_t i
+    for i in range(xs.shape[0]):
+        if applied_f is sig_gain_f:
+            rc = sig_gain_apply_f(m, side[i, 0], xs[i], &y)
+        elif applied_f is sig_nonlin_f:
+            rc = sig_nonlin_apply_f(m, xs[i], &y)
+        else:
+            rc = sig_cross_apply_f(m, xs[i], &side[i, 0], &y)
+        if rc < 0:
+            raise NonFiniteError(f"{refused} at index {i}")
+        out[i] = y
+    return out
+
+
 def gain_q(coef, u, x):
     """sig_gain_apply_q: out = x * G(u), G Q16.16 by Horner in Q15 u."""
     cdef sig_gain_q g
     cdef cnp.ndarray[cnp.int32_t, ndim=1] cs = _i32(coef)
     if cs.shape[0] < 1 or cs.shape[0] > 9 or sig_gain_init_q(&g, &cs[0], <uint8_t>(cs.shape[0] - 1)) != 0:
         raise RangeError(f"gain: {cs.shape[0]} coefficients, need 1..9")
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] us = np.ascontiguousarray(np.ravel(u), dtype=np.int16)
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] xs = _i32(x)
-    cdef Py_ssize_t n = xs.shape[0], i
-    if us.shape[0] != n:
-        raise RangeError(f"gain: {us.shape[0]} temperatures for {n} readings")
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(n, dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-    with nogil:
-        for i in range(n):
-            st[i] = sig_gain_apply_q(&g, us[i], xs[i], &out[i])
-    return out, st
+    return _apply_q(&g, x, u, "gain: {m} temperatures")
 
 
 def gain_f(coef, u, x):
@@ -259,18 +320,7 @@ def gain_f(coef, u, x):
     cdef cnp.ndarray[cnp.float64_t, ndim=1] cs = _f64(coef)
     if cs.shape[0] < 1 or cs.shape[0] > 9 or sig_gain_init_f(&g, &cs[0], <uint8_t>(cs.shape[0] - 1)) != 0:
         raise RangeError(f"gain: {cs.shape[0]} finite coefficients needed, 1..9")
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] us = _f64(u)
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] xs = _f64(x)
-    cdef Py_ssize_t n = xs.shape[0], i
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] out = np.empty(n, dtype=np.float64)
-    cdef double y
-    if us.shape[0] != n:
-        raise RangeError(f"gain: {us.shape[0]} temperatures for {n} readings")
-    for i in range(n):
-        if sig_gain_apply_f(&g, us[i], xs[i], &y) < 0:
-            raise NonFiniteError(f"gain: non-finite input or result at index {i}")
-        out[i] = y
-    return out
+    return _apply_f(&g, x, np.reshape(u, (-1, 1)), "gain: {m} temperatures", "gain: non-finite input or result")
 
 
 def nonlin_q(coef, int center, int k_q16, int shift, x):
@@ -279,14 +329,7 @@ def nonlin_q(coef, int center, int k_q16, int shift, x):
     if (cs.shape[0] < 1 or cs.shape[0] > 9 or not (0 <= shift <= 255)
             or sig_nonlin_init_q(&m, &cs[0], <uint8_t>(cs.shape[0] - 1), center, k_q16, <uint8_t>shift) != 0):
         raise RangeError(f"nonlinearity: {cs.shape[0]} coefficients, k_q16={k_q16}, shift={shift} rejected")
-    cdef Py_ssize_t i
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] xs = _i32(x)
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(xs.shape[0], dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(xs.shape[0], dtype=np.int16)
-    with nogil:
-        for i in range(xs.shape[0]):
-            st[i] = sig_nonlin_apply_q(&m, xs[i], &out[i])
-    return out, st
+    return _apply_q(&m, x, None, None)
 
 
 def nonlin_f(coef, double center, double inv_scale, x):
@@ -295,15 +338,7 @@ def nonlin_f(coef, double center, double inv_scale, x):
     if (cs.shape[0] < 1 or cs.shape[0] > 9
             or sig_nonlin_init_f(&m, &cs[0], <uint8_t>(cs.shape[0] - 1), center, inv_scale) != 0):
         raise RangeError("nonlinearity: bad coefficients or scaling")
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] xs = _f64(x)
-    cdef Py_ssize_t n = xs.shape[0], i
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] out = np.empty(n, dtype=np.float64)
-    cdef double y
-    for i in range(n):
-        if sig_nonlin_apply_f(&m, xs[i], &y) < 0:
-            raise NonFiniteError(f"nonlinearity: non-finite input at index {i}")
-        out[i] = y
-    return out
+    return _apply_f(&m, x, None, None, "nonlinearity: non-finite input")
 
 
 def cross_q(k_q16, x, others):
@@ -312,16 +347,7 @@ def cross_q(k_q16, x, others):
     cdef cnp.ndarray[cnp.int32_t, ndim=1] ks = _i32(k_q16)
     if ks.shape[0] < 1 or ks.shape[0] > 3 or sig_cross_init_q(&c, &ks[0], <uint8_t>ks.shape[0]) != 0:
         raise RangeError(f"cross-axis: {ks.shape[0]} coefficients, need 1..3")
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] xs = _i32(x)
-    cdef cnp.ndarray[cnp.int32_t, ndim=2] os = np.ascontiguousarray(others, dtype=np.int32).reshape(-1, ks.shape[0])
-    cdef Py_ssize_t n = xs.shape[0], i
-    if os.shape[0] != n:
-        raise RangeError(f"cross-axis: {os.shape[0]} rows of other axes for {n} readings")
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(n, dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] st = np.empty(n, dtype=np.int16)
-    for i in range(n):
-        st[i] = sig_cross_apply_q(&c, xs[i], &os[i, 0], &out[i])
-    return out, st
+    return _apply_q(&c, x, np.reshape(others, (-1, ks.shape[0])), "cross-axis: {m} rows of other axes")
 
 
 def cross_f(k, x, others):
@@ -329,18 +355,8 @@ def cross_f(k, x, others):
     cdef cnp.ndarray[cnp.float64_t, ndim=1] ks = _f64(k)
     if ks.shape[0] < 1 or ks.shape[0] > 3 or sig_cross_init_f(&c, &ks[0], <uint8_t>ks.shape[0]) != 0:
         raise RangeError(f"cross-axis: {ks.shape[0]} finite coefficients, need 1..3")
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] xs = _f64(x)
-    cdef cnp.ndarray[cnp.float64_t, ndim=2] os = np.ascontiguousarray(others, dtype=np.float64).reshape(-1, ks.shape[0])
-    cdef Py_ssize_t n = xs.shape[0], i
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] out = np.empty(n, dtype=np.float64)
-    cdef double y
-    if os.shape[0] != n:
-        raise RangeError(f"cross-axis: {os.shape[0]} rows of other axes for {n} readings")
-    for i in range(n):
-        if sig_cross_apply_f(&c, xs[i], &os[i, 0], &y) < 0:
-            raise NonFiniteError(f"cross-axis: non-finite input at index {i}")
-        out[i] = y
-    return out
+    return _apply_f(&c, x, np.reshape(others, (-1, ks.shape[0])), "cross-axis: {m} rows of other axes",
+                    "cross-axis: non-finite input")
 
 
 def refined_q(t, y, offset, lag=None, hyst=None, gain=None):

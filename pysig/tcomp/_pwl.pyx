@@ -36,16 +36,25 @@ cdef extern from "sig_pwl.h":
     sig_status sig_pwl_eval_f(const sig_pwl_f *p, sig_real t, sig_real *out) nogil
 
 
+def _arrays(table, t, dtype, out_dtype):
+    """What both forms loop over: the table and the temperatures as contiguous
+    `dtype` arrays (the temperatures flattened), and for each temperature a
+    value (`out_dtype`, zeros) and a status (int16)."""
+    tab = np.ascontiguousarray(table, dtype=dtype)
+    temps = np.ascontiguousarray(np.ravel(t), dtype=dtype)
+    n = temps.shape[0]
+    return tab, temps, np.zeros(n, dtype=out_dtype), np.empty(n, dtype=np.int16)
+
+
 def eval_q16(table, long long t_lo, long long t_hi, long long recip, long long value_frac, t):
     """C sig_pwl_eval_q16 over int16 temperatures `t`.
 
     Returns (values int32 Q16.16, status int16 per element).  Raises
     RangeError when sig_pwl_init_q16 rejects the parameters."""
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] tab = np.ascontiguousarray(table, dtype=np.int16)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] temps = np.ascontiguousarray(np.ravel(t), dtype=np.int16)
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] tab, temps, status
+    cdef cnp.ndarray[cnp.int32_t, ndim=1] out
+    tab, temps, out, status = _arrays(table, t, np.int16, np.int32)
     cdef Py_ssize_t n = temps.shape[0], i
-    cdef cnp.ndarray[cnp.int32_t, ndim=1] out = np.zeros(n, dtype=np.int32)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] status = np.empty(n, dtype=np.int16)
     cdef sig_pwl_q16 p
     if tab.shape[0] > 255 or not (-32768 <= t_lo <= 32767 and -32768 <= t_hi <= 32767
                                   and 0 <= recip <= 0xFFFFFFFF and 0 <= value_frac <= 255):
@@ -66,11 +75,10 @@ def eval_f(table, double t_lo, double t_hi, double inv_step, t):
 
     Returns (values float64, status int16); NaN temperatures give status -2
     and a NaN value."""
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] tab = np.ascontiguousarray(table, dtype=np.float64)
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] temps = np.ascontiguousarray(np.ravel(t), dtype=np.float64)
+    cdef cnp.ndarray[cnp.float64_t, ndim=1] tab, temps, out
+    cdef cnp.ndarray[cnp.int16_t, ndim=1] status
+    tab, temps, out, status = _arrays(table, t, np.float64, np.float64)
     cdef Py_ssize_t n = temps.shape[0], i
-    cdef cnp.ndarray[cnp.float64_t, ndim=1] out = np.empty(n, dtype=np.float64)
-    cdef cnp.ndarray[cnp.int16_t, ndim=1] status = np.empty(n, dtype=np.int16)
     cdef sig_pwl_f p
     cdef sig_status st
     cdef double y

@@ -487,7 +487,7 @@ class Chain:
         self.ramp, self.missed, self.paused, self.followed = False, False, False, False
         self.slope, self.last, self.prev_x, self.origin, self.pred = 0, 0, 0, 0, 0
         self.anchor, self.drift_age, self.drifting = 0, 0, True
-        self.trend_up, self.trend_dn, self.trending = 0, 0, False
+        self.trend_mean, self.trending = 0, False
         self._set_thresholds()
 
     def _set_thresholds(self):
@@ -577,7 +577,11 @@ class Chain:
         than the first by more than A0/2 starts a ramp (both samples moved on:
         a pour, not a glitch pair at one level; and the two steps out, from Dc
         to the first and from the first to the second, within a factor 4 of
-        each other: not a glitch on a load step); a followed ramp takes each
+        each other: not a glitch on a load step); so does a first rejection
+        when the sample before, accepted, lay more than A0/2 out on the same
+        side and the two steps agree within a factor 2 (a ramp of 3-6 sigma
+        per sample, whose first sample is within A0; a swing turning back
+        shrinks its step); a followed ramp takes each
         sample within A0 of its prediction, last + slope, the slope moving half
         way to each new difference (kept across one held sample).  A rejection back within A0 of where the ramp began ends it
         and the sample is taken (a glitch pair or a bump that came back);
@@ -585,8 +589,11 @@ class Chain:
         sample is nearer where the ramp began than its prediction, and no
         farther from it than the ramp's last value (not a glitch itself), the
         start was a glitch pair: the level before it is held and the window starts
-        again from it (a re-seed); else the last followed value is held, and a
-        second rejection in a row ends the ramp.  Returns (y, status)."""
+        again from it (a re-seed); else the prediction is held when the sample
+        lies beyond it on the ramp's side (a glitch in a pour), the last
+        followed value otherwise (a bump's top, a swing turning, a pour
+        slowing down), and a second rejection in a row ends the ramp with the last
+        followed value.  Returns (y, status)."""
         rejected = (ret & WARN_REJECTED) != 0
         finite = self.fixed or math.isfinite(x)
         if self.ramp:
@@ -609,18 +616,23 @@ class Chain:
                     self.ramp = self.missed = self.paused = False
                     self.limit.set_ref(self.origin)
                     y, ret = self.origin, ret | LIMIT_RESEEDED
-                else:
-                    y = self.last
+                else:       # a glitch in a pour, beyond the prediction: the prediction
+                    beyond = x > self.pred if self.slope > 0 else x < self.pred
+                    y = self.pred if beyond and not self.missed else self.last
                     if self.missed:
                         self.ramp = self.missed = self.paused = False
                     else:
                         self.missed = True
                         ret |= CHAIN_RAMP
-        elif rejected and finite and self.limit.run >= 2:
+        elif rejected and finite and self.limit.run >= 1:
             half = self.limit.a0 >> 1 if self.fixed else self.limit.a0 * 0.5
             moved = self._diff(x, self.prev_x) * self.limit.side
             before = self._diff(self.prev_x, self.limit.Dc) * self.limit.side
-            if moved > half and moved * 4 >= before and moved <= before * 4:
+            if self.limit.run >= 2:
+                start = moved > half and moved * 4 >= before and moved <= before * 4
+            else:           # the sample before was accepted: it moved out, and the steps agree closer
+                start = before > half and moved * 2 >= before and moved <= before * 2
+            if start:
                 self.origin = self.limit.Dc
                 self.limit.accept(x)
                 self.ramp, self.missed, self.paused, self.followed = True, False, False, False
@@ -645,20 +657,23 @@ class Chain:
             self.anchor, self.drift_age = xk, 0
 
     def _trend(self, r):
-        """auto mode: two-sided CUSUM of the sample's residual r = y - output
-        with allowance sigma, both sums started again while the window
-        refills; `trending` while either is above 2 sigma (a load that has
-        begun to move by a few sigma per sample, before the motion test trips)."""
+        """auto mode: the residual r = y - output goes into a weighted mean
+        with weight 1/2 (standard deviation sigma / sqrt(3) on a still load),
+        started again while the window refills; `trending` while it is more
+        than 2 of its standard deviations from 0, 2 / sqrt(3) sigma taken as
+        37/32 sigma (a load that has begun to move by a few sigma per sample,
+        before the motion test trips)."""
         s = self.noise.sigma
         if self.ap.count < self.ap.n:
-            self.trend_up, self.trend_dn, self.trending = 0, 0, False
+            self.trend_mean, self.trending = 0, False
             return
         if self.fixed:
-            up, dn, two = sat32(sat32(self.trend_up + r) - s), sat32(sat32(self.trend_dn - r) - s), sat32(s + s)
+            self.trend_mean = sat32(self.trend_mean + (sat32(r - self.trend_mean) >> 1))
+            self.trending = min(abs(self.trend_mean), INT32_MAX) > s + (s >> 3) + (s >> 5)
         else:
-            up, dn, two = self.trend_up + r - s, self.trend_dn - r - s, s + s
-        self.trend_up, self.trend_dn = max(up, 0), max(dn, 0)
-        self.trending = self.trend_up > two or self.trend_dn > two
+            e = self.trend_mean + (r - self.trend_mean) * 0.5
+            band = s * 1.15625
+            self.trend_mean, self.trending = e, e > band or -e > band
 
     def _backed(self, ret, y_k, m_k, xk):
         """auto mode: the stability detector's verdict counts only when the

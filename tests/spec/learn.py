@@ -6,14 +6,15 @@ sig_learn_solve.c, one sample at a time, in plain Python integers.
              which go into count, sum_dt, sum_y of the bin when the bin
              changes, after 16 samples, when the bin reaches 2048 samples
              and at a solve; a bin at 2048 samples is halved (floor).  The residual (model output, or
-             raw with no model), clamped to +-2047, is summed over blocks of
+             raw with no model), clamped to +-511, is summed over blocks of
              8 still samples in the model's range (moving samples are left
              out; an out-of-range still one drops the block and breaks the
              series); per block B:
              noise += min(|B - B_prev|, 2047) - (noise >> 5).  With a
-             model and armed thresholds, every such sample feeds the
-             two-sided CUSUM on 16 r, r clamped to +-511; a crossing clears
-             the bins and sets stale.
+             model and armed thresholds, every block feeds the two-sided
+             CUSUM S+ = max(0, S+ + 16 B - 8 k), S- = max(0, S- - 16 B - 8 k)
+             (the per-sample CUSUM on 16 r with max(0, .) at block ends
+             only); a crossing of h clears the bins and sets stale.
     solve    thresholds from noise (sigma = max(floor, noise*642 >> 12);
              k, h at most 16383);
              period; points (Q4 means) of covered bins; leave-one-bin-out
@@ -136,31 +137,33 @@ class Learner:
         self.block, self.block_n, self.have_prev = [0] * n, 0, False
 
     def _watch_block(self):
+        """A full block: the noise estimate, then the CUSUM on the block sum
+        (16 B - 8 k: the per-sample CUSUM with max(0, .) taken at block ends
+        only); True when it crossed."""
+        crossed = False
+        armed = self.model is not None and self.h[0] != 0
         for a, x in enumerate(self.block):
             if self.have_prev:
                 self.noise[a] += min(abs(x - self.prev[a]), Y_MAX) - (self.noise[a] >> 5)
             self.prev[a] = x
+            if armed:
+                pos = self.pos[a] + 16 * x - BLOCK * self.k[a]
+                neg = self.neg[a] - 16 * x - BLOCK * self.k[a]
+                self.pos[a], self.neg[a] = max(pos, 0), max(neg, 0)
+                crossed |= pos > self.h[a] or neg > self.h[a]
         self.block = [0] * len(self.block)
         if self.have_prev:
             self.noise_n = min(self.noise_n + 1, 65535)
         self.have_prev = True
+        return crossed
 
     def _watch(self, r):
-        crossed = False
-        for a, x in enumerate(r):
-            if self.model is None or self.h[a] == 0:
-                continue
-            xc = 16 * _clamp(x, -CUSUM_X_MAX, CUSUM_X_MAX)
-            pos = self.pos[a] + xc - self.k[a]
-            neg = self.neg[a] - xc - self.k[a]
-            self.pos[a], self.neg[a] = max(pos, 0), max(neg, 0)
-            crossed |= pos > self.h[a] or neg > self.h[a]
-        self.block = [b + _clamp(x, -Y_MAX, Y_MAX) for b, x in zip(self.block, r)]
+        self.block = [b + _clamp(x, -CUSUM_X_MAX, CUSUM_X_MAX) for b, x in zip(self.block, r)]
         self.block_n += 1
         if self.block_n >= BLOCK:
             self.block_n = 0
-            self._watch_block()
-        return crossed
+            return self._watch_block()
+        return False
 
     def step(self, t, raw, resid, still):
         """Status of sig_learn_step (resid: the model's outputs, or None)."""

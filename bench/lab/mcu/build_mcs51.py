@@ -59,14 +59,37 @@ def mcs51_runtime(extra_flags=()) -> list[Path]:
 XSTACK_RT = ("_mullong", "_mulint", "_divulong", "_modulong", "_gptrget", "_gptrput", "_startup", "_bp", "_spx",
              "bpx")
 XSTACK_LIB = Path("/usr/share/sdcc/lib/large-stack-auto")
+# helpers that take parameters on the stack and that only some builds call
+# (a struct copy calls __memcpy; the signed and 16-bit divisions): built for
+# --xstack into a library, so a build links only the ones it calls and none
+# of them comes from large-stack-auto, where they read their parameters from
+# the internal stack (a struct copy through its __memcpy copies garbage).
+# Soft float is not among them: an --xstack build is fixed-only
+# (SIG_NO_FLOAT), and build_mcs51 refuses one that links libfloat.
+XSTACK_ON_DEMAND = ("__memcpy", "_divslong", "_modslong", "_divsint", "_modsint", "_divuint", "_moduint")
 
 
 def _xstack_runtime(flags) -> list[Path]:
-    srcs = [SDCC_LIB_SRC / f"{m}.c" for m in XSTACK_RT]
+    return _xstack_rels(XSTACK_RT, "xstack")
+
+
+def xstack_library() -> Path:
+    """The library of XSTACK_ON_DEMAND, built for --stack-auto --xstack."""
+    rels = _xstack_rels(XSTACK_ON_DEMAND, "xstack-lib")
+    lib = rels[0].parent / "rtxstack.lib"
+    if not lib.exists():
+        tmp = lib.with_name(f"rtxstack.lib.tmp{os.getpid()}")
+        run_tool([tool("sdar"), "rcs", tmp, *rels], cwd=lib.parent)
+        tmp.rename(lib)
+    return lib
+
+
+def _xstack_rels(names, tag) -> list[Path]:
+    srcs = [SDCC_LIB_SRC / f"{m}.c" for m in names]
     missing = [s for s in srcs if not s.exists()]
     if missing:
         raise McuError(f"{missing[0]} missing (Debian package sdcc-libraries)")
-    out = BUILD_DIR / "mcs51-rt" / f"xstack-{file_key(srcs)}"
+    out = BUILD_DIR / "mcs51-rt" / f"{tag}-{file_key(srcs)}"
     rels = [out / f"rt{s.stem}.rel" for s in srcs]
     if all(r.exists() for r in rels):
         return rels
@@ -117,7 +140,10 @@ def build_mcs51(sources, harness, defines=(), *, name=None, include_dirs=(),
     assembly __mullong of mcs51_runtime() is added."""
     sdcc = tool("sdcc")
     extra_rels = [*extra_rels, *mcs51_runtime(extra_flags)]
-    lib_dirs = ["-L", str(XSTACK_LIB)] if "--xstack" in extra_flags else []
+    lib_dirs = []
+    if "--xstack" in extra_flags:       # searched before sdcc's own libraries
+        xlib = xstack_library()
+        lib_dirs = ["-L", str(xlib.parent), "-l", xlib.name, "-L", str(XSTACK_LIB)]
     sources = [Path(s).resolve() for s in sources]
     harness = Path(harness).resolve()
     dflags = define_flags(defines)
@@ -143,6 +169,9 @@ def build_mcs51(sources, harness, defines=(), *, name=None, include_dirs=(),
             ihx.unlink()
     if "ASlink-Error" in out or "Undefined Global" in out or not ihx.exists():
         raise McuError(f"sdcc link failed in {outdir}:\n{out}")
+    if "--xstack" in extra_flags and "libfloat.lib" in ihx.with_suffix(".map").read_text():
+        raise McuError(f"{outdir}: an --xstack build linked large-stack-auto's soft float, which reads its "
+                       "parameters from the internal stack: build it with SIG_NO_FLOAT")
     img = Image("mcs51", ihx)
     mcs51_symbols(img)
     return img

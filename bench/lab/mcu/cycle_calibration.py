@@ -36,31 +36,63 @@ from lab.mcu import runner
 
 HARNESS = runner.MCU_DIR / "harness" / "cycle_cal_harness.c"
 
-# (source line, cycles stated by the user guide, times it runs, which row states them)
-MSP430_SEQUENCE = (
-    ("mov #cal_data, r13", 2, 1, "3-16 #N -> Rm"),
-    ("mov @r13, r12", 2, 1, "3-16 @Rn -> Rm"),
-    ("add @r13+, r12", 2, 1, "3-16 @Rn+ -> Rm"),
-    ("add 2(r13), r12", 3, 1, "3-16 x(Rn) -> Rm"),
-    ("add &cal_data, r12", 3, 1, "3-16 &EDE -> Rm"),
-    ("mov r12, r14", 1, 1, "3-16 Rn -> Rm"),
-    ("add r14, r12", 1, 1, "3-16 Rn -> Rm"),
-    ("mov #cal_result, r15", 2, 1, "3-16 #N -> Rm"),
-    ("mov r12, 0(r15)", 4, 1, "3-16 Rn -> x(Rm)"),
-    ("mov r12, &cal_result+2", 4, 1, "3-16 Rn -> &EDE"),
-    ("mov @r13, 4(r15)", 5, 1, "3-16 @Rn -> x(Rm)"),
-    ("mov &cal_data+4, &cal_result+6", 6, 1, "3-16 &EDE -> &TONI"),
-    ("mov #0x5a5a, &cal_result+8", 5, 1, "3-16 #N -> &EDE"),
-    ("rra r12", 1, 1, "3-15 RRA Rn"),
-    ("swpb r12", 1, 1, "3-15 SWPB Rn"),
-    ("rra 8(r15)", 4, 1, "3-15 RRA x(Rn)"),
-    ("push r12", 3, 1, "3-15 PUSH Rn"),
-    ("pop r14", 2, 1, "3-16 @Rn+ -> Rm (POP = MOV @SP+, dst)"),
-    ("mov r14, &cal_result+10", 4, 1, "3-16 Rn -> &EDE"),
-    ("jmp 1f", 2, 1, "jumps: 2"),
-    ("1: ret", 3, 1, "3-16 @Rn+ -> PC (RET = MOV @SP+, PC)"),
+# Each target's sequence, in order: (target, source line, cycles stated by
+# its user guide, times it runs, which row states them)
+STATED = (
+    ("msp430", "mov #cal_data, r13", 2, 1, "3-16 #N -> Rm"),
+    ("msp430", "mov @r13, r12", 2, 1, "3-16 @Rn -> Rm"),
+    ("msp430", "add @r13+, r12", 2, 1, "3-16 @Rn+ -> Rm"),
+    ("msp430", "add 2(r13), r12", 3, 1, "3-16 x(Rn) -> Rm"),
+    ("msp430", "add &cal_data, r12", 3, 1, "3-16 &EDE -> Rm"),
+    ("msp430", "mov r12, r14", 1, 1, "3-16 Rn -> Rm"),
+    ("msp430", "add r14, r12", 1, 1, "3-16 Rn -> Rm"),
+    ("msp430", "mov #cal_result, r15", 2, 1, "3-16 #N -> Rm"),
+    ("msp430", "mov r12, 0(r15)", 4, 1, "3-16 Rn -> x(Rm)"),
+    ("msp430", "mov r12, &cal_result+2", 4, 1, "3-16 Rn -> &EDE"),
+    ("msp430", "mov @r13, 4(r15)", 5, 1, "3-16 @Rn -> x(Rm)"),
+    ("msp430", "mov &cal_data+4, &cal_result+6", 6, 1, "3-16 &EDE -> &TONI"),
+    ("msp430", "mov #0x5a5a, &cal_result+8", 5, 1, "3-16 #N -> &EDE"),
+    ("msp430", "rra r12", 1, 1, "3-15 RRA Rn"),
+    ("msp430", "swpb r12", 1, 1, "3-15 SWPB Rn"),
+    ("msp430", "rra 8(r15)", 4, 1, "3-15 RRA x(Rn)"),
+    ("msp430", "push r12", 3, 1, "3-15 PUSH Rn"),
+    ("msp430", "pop r14", 2, 1, "3-16 @Rn+ -> Rm (POP = MOV @SP+, dst)"),
+    ("msp430", "mov r14, &cal_result+10", 4, 1, "3-16 Rn -> &EDE"),
+    ("msp430", "jmp 1f", 2, 1, "jumps: 2"),
+    ("msp430", "1: ret", 3, 1, "3-16 @Rn+ -> PC (RET = MOV @SP+, PC)"),
+    ("mcs51", "mov a, #0x12", 1, 1, "MOV A,#data"),
+    ("mcs51", "mov r2, a", 1, 1, "MOV Rn,A"),
+    ("mcs51", "add a, r2", 1, 1, "ADD A,Rn"),
+    ("mcs51", "mov r3, #5", 1, 1, "MOV Rn,#data"),
+    ("mcs51", "09001$: inc a", 1, 5, "INC A"),
+    ("mcs51", "djnz r3, 09001$", 2, 5, "DJNZ Rn,rel (taken 4 times, then not: 2 either way)"),
+    ("mcs51", "mov b, #7", 2, 1, "MOV direct,#data"),
+    ("mcs51", "mul ab", 4, 1, "MUL AB"),
+    ("mcs51", "mov dptr, #_cal_result", 2, 1, "MOV DPTR,#data16"),
+    ("mcs51", "movx @dptr, a", 2, 1, "MOVX @DPTR,A"),
+    ("mcs51", "inc dptr", 2, 1, "INC DPTR"),
+    ("mcs51", "xch a, b", 1, 1, "XCH A,direct"),
+    ("mcs51", "movx @dptr, a", 2, 1, "MOVX @DPTR,A"),
+    ("mcs51", "inc dptr", 2, 1, "INC DPTR"),
+    ("mcs51", "mov a, b", 1, 1, "MOV A,direct"),
+    ("mcs51", "mov b, #3", 2, 1, "MOV direct,#data"),
+    ("mcs51", "div ab", 4, 1, "DIV AB"),
+    ("mcs51", "movx @dptr, a", 2, 1, "MOVX @DPTR,A"),
+    ("mcs51", "nop", 1, 1, "NOP"),
+    ("mcs51", "sjmp 09002$", 2, 1, "SJMP rel"),
+    ("mcs51", "09002$: ret", 2, 1, "RET"),
 )
+
+
+def _rows(target: str) -> tuple:
+    """the rows of STATED for `target`, without the target"""
+    return tuple(row[1:] for row in STATED if row[0] == target)
+
+
+MSP430_SEQUENCE = _rows("msp430")
+MCS51_SEQUENCE = _rows("mcs51")
 MSP430_CALL = (5, "3-15 CALL #N")
+MCS51_CALL = (2, "LCALL addr16")
 
 # Constant-generator immediates (R2/R3 as source: a register, 1 cycle to a
 # register in the user guide), which mspdebug 0.22 counts as immediates:
@@ -74,30 +106,6 @@ MSP430_CONSTANT_GENERATOR = (
     ("mov #8, r14", 1, 1, "3-16 Rn -> Rm (constant generator)"),
 )
 
-MCS51_SEQUENCE = (
-    ("mov a, #0x12", 1, 1, "MOV A,#data"),
-    ("mov r2, a", 1, 1, "MOV Rn,A"),
-    ("add a, r2", 1, 1, "ADD A,Rn"),
-    ("mov r3, #5", 1, 1, "MOV Rn,#data"),
-    ("09001$: inc a", 1, 5, "INC A"),
-    ("djnz r3, 09001$", 2, 5, "DJNZ Rn,rel (taken 4 times, then not: 2 either way)"),
-    ("mov b, #7", 2, 1, "MOV direct,#data"),
-    ("mul ab", 4, 1, "MUL AB"),
-    ("mov dptr, #_cal_result", 2, 1, "MOV DPTR,#data16"),
-    ("movx @dptr, a", 2, 1, "MOVX @DPTR,A"),
-    ("inc dptr", 2, 1, "INC DPTR"),
-    ("xch a, b", 1, 1, "XCH A,direct"),
-    ("movx @dptr, a", 2, 1, "MOVX @DPTR,A"),
-    ("inc dptr", 2, 1, "INC DPTR"),
-    ("mov a, b", 1, 1, "MOV A,direct"),
-    ("mov b, #3", 2, 1, "MOV direct,#data"),
-    ("div ab", 4, 1, "DIV AB"),
-    ("movx @dptr, a", 2, 1, "MOVX @DPTR,A"),
-    ("nop", 1, 1, "NOP"),
-    ("sjmp 09002$", 2, 1, "SJMP rel"),
-    ("09002$: ret", 2, 1, "RET"),
-)
-MCS51_CALL = (2, "LCALL addr16")
 MCS51_CLOCKS_PER_MACHINE_CYCLE = 12
 
 

@@ -26,10 +26,25 @@ static SIG_MCS51_DATA uint32_t mul_r;
 
 #ifdef __SDCC
 /* A and B only: sdcc takes a naked function to leave R0-R7 alone, and with
- * --stack-auto keeps values in them across the call */
+ * --stack-auto keeps values in them across the call.  The two cross
+ * products (low x high, high x low) are added at byte 1 of the result by
+ * one assembler macro. */
 static void mul16(void) __naked
 {
     __asm
+    .macro mul16_add_cross a_byte, b_byte
+    mov a,a_byte
+    mov b,b_byte
+    mul ab
+    add a,(_mul_r + 1)
+    mov (_mul_r + 1),a
+    mov a,b
+    addc a,(_mul_r + 2)
+    mov (_mul_r + 2),a
+    clr a
+    addc a,(_mul_r + 3)
+    mov (_mul_r + 3),a
+    .endm
     mov a,_mul_a
     mov b,_mul_b
     mul ab
@@ -40,28 +55,8 @@ static void mul16(void) __naked
     mul ab
     mov (_mul_r + 2),a
     mov (_mul_r + 3),b
-    mov a,_mul_a
-    mov b,(_mul_b + 1)
-    mul ab
-    add a,(_mul_r + 1)
-    mov (_mul_r + 1),a
-    mov a,b
-    addc a,(_mul_r + 2)
-    mov (_mul_r + 2),a
-    clr a
-    addc a,(_mul_r + 3)
-    mov (_mul_r + 3),a
-    mov a,(_mul_a + 1)
-    mov b,_mul_b
-    mul ab
-    add a,(_mul_r + 1)
-    mov (_mul_r + 1),a
-    mov a,b
-    addc a,(_mul_r + 2)
-    mov (_mul_r + 2),a
-    clr a
-    addc a,(_mul_r + 3)
-    mov (_mul_r + 3),a
+    mul16_add_cross _mul_a, (_mul_b+1)
+    mul16_add_cross (_mul_a+1), _mul_b
     ret
     __endasm;
 }
@@ -795,7 +790,7 @@ static sig_status step_auto(int32_t x)
     }
     /* the trend test runs on every sample (the window is full here) */
     A.trending = sig_chain_trend_q(false, sig_sat_sub32(S.base7 + (int32_t)y * 128, xk), A.noise.sigma,
-                                   &A.trend_up, &A.trend_dn);
+                                   &A.trend_mean);
     if (stab)
         stab = sig_chain_backed(ret, S.count, S.n, motion_run, A.drifting, A.trending,
                                 sig_abs32_sat(S.base7 + (int32_t)y * 128 - xk) <= A.near_band
