@@ -16,7 +16,8 @@ noise levels, two sample rates, two record lengths and two units, and
 records built like two real bench logs (a resistor on a stepped plate, an
 instrument carried between cold and warm places); each judged by the
 physical effects named, each parameter within +-50 %, and the blocked-CV
-error cut.  Run with OPENBLAS_NUM_THREADS=1 on a shared machine (many small
+error cut; the same kinds once more off the grid (held out: noise 1 LSB,
+every 5 s, 8 h, seeds 3 and 11, both units).  Run with OPENBLAS_NUM_THREADS=1 on a shared machine (many small
 least-squares fits: threads only contend).
 """
 import argparse
@@ -28,7 +29,7 @@ import time
 from pysig.io import atomic_output
 from pysig.refine import refine
 from lab.studies.refine_study import clean_cases, injected_cases, real_cases, row
-from lab.studies.overlap_cases import grid_cases, judge_case, options_for, real_like_cases
+from lab.studies.overlap_cases import grid_cases, held_out_cases, judge_case, options_for, real_like_cases
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "..", "shared", "data")
@@ -84,8 +85,10 @@ def main(argv=None):
     ap.add_argument("--skip-overlap", action="store_true")
     ap.add_argument("--overlap-seeds", type=int, default=1, help="seeds of each overlapping-effect grid case")
     ap.add_argument("--real-like-seeds", type=int, default=3)
+    ap.add_argument("--skip-held-out", action="store_true",
+                    help="skip the overlapping-effect cases at a noise, rate, length and seeds off the grid")
     args = ap.parse_args(argv)
-    out = {"injected": [], "clean": {}, "real": [], "overlap": [], "real_like": []}
+    out = {"injected": [], "clean": {}, "real": [], "overlap": [], "real_like": [], "held_out": []}
     head = ("| case | injected | refine added | impulses | robust RMS | plain RMS | RMS of 10-s reading | "
             "ratio (robust) | unexplained |\n|---|---|---|---|---|---|---|---|---|")
     if not args.skip_injected:
@@ -110,8 +113,11 @@ def main(argv=None):
     if not args.skip_overlap:
         ohead = ("| case | in the record | refine named | right | parameter (true) | within 50 % | drift line | "
                  "CV cut | share of systematic removed |\n|---|---|---|---|---|---|---|---|---|")
-        for key, cases in (("real_like", real_like_cases(tuple(range(args.real_like_seeds)))),
-                           ("overlap", grid_cases(tuple(range(args.overlap_seeds))))):
+        sets = [("real_like", real_like_cases(tuple(range(args.real_like_seeds)))),
+                ("overlap", grid_cases(tuple(range(args.overlap_seeds))))]
+        if not args.skip_held_out:
+            sets.append(("held_out", held_out_cases()))
+        for key, cases in sets:
             print(ohead)
             for label, truth, data in cases:
                 t0 = time.perf_counter()
@@ -121,10 +127,14 @@ def main(argv=None):
                 print(fmt_overlap(r), flush=True)
             print()
         out["overlap_summary"] = overlap_summary(out["overlap"] + out["real_like"])
-        for kind, k in out["overlap_summary"].items():
-            print(f"{kind}: named right {k['named_right']}/{k['cases']}, parameters within 50 % "
-                  f"{k['params_within_50pct']}/{k['cases']}, drift line {k['drift_reported']}/{k['cases']}, "
-                  f"CV cut min {k['cv_cut_min']:.2f}x median {k['cv_cut_median']:.2f}x")
+        out["held_out_summary"] = overlap_summary(out["held_out"])
+        for title, summary in (("grid and real-like", out["overlap_summary"]),
+                               ("held out", out["held_out_summary"])):
+            print(title)
+            for kind, k in summary.items():
+                print(f"  {kind}: named right {k['named_right']}/{k['cases']}, parameters within 50 % "
+                      f"{k['params_within_50pct']}/{k['cases']}, drift line {k['drift_reported']}/{k['cases']}, "
+                      f"CV cut min {k['cv_cut_min']:.2f}x median {k['cv_cut_median']:.2f}x")
         print()
     print(head)
     for label, data in real_cases(args.data):

@@ -126,14 +126,71 @@ def test_warm_up_under_a_lag_is_found_without_a_rider():
 def test_warm_up_slower_than_the_drift_resolves_is_a_drift():
     """A settling of a fifth of the record is followed by a 5-knot drift:
     it is not named warm-up (the warm-up's range ends where it settles
-    within the drift's first knot interval).  (What the 5-knot drift leaves
-    of this settling can still be taken by a wide hysteresis: the bench
-    table counts that as a false claim.)"""
+    within the drift's first knot interval), and nothing else takes what
+    the drift leaves (a piecewise-linear drift left its curvature to a wide
+    hysteresis here)."""
     _, truth, data = overlap_case("drift", seed=7, noise=0.5, dt=2.0, unit=overlap_cases.UNITS[1])
     assert fx.FAMILIES["warm_up"].limit(data) == pytest.approx(data.span_t / 8.0)
     rep = refine(data).report()
-    assert "warm_up" not in rep["effects_found"], rep["steps"]
+    assert rep["effects_found"] == [], rep["steps"]
     assert rep["drift"] is not None
+
+
+def test_drift_is_a_smooth_spline_through_its_knots():
+    """2 knots: a line; 3: any parabola exactly; each column is 1 at its
+    knot and 0 at the others; smooth (no corner at a knot)."""
+    t = np.linspace(0.0, 100.0, 1001)
+    data = FitData(y=np.zeros(t.size), t=t)
+    drift = fx.FAMILIES["drift"]
+    line, _ = drift.columns(data, None, fx.Effect("drift", 2))
+    assert line[:, 0] == pytest.approx(t / 100.0)
+    cols, _ = drift.columns(data, None, fx.Effect("drift", 3))
+    X = np.column_stack([np.ones(t.size), cols])
+    parabola = 3.0 - 0.2 * t + 0.01 * t ** 2
+    beta = np.linalg.lstsq(X, parabola, rcond=None)[0]
+    assert X @ beta == pytest.approx(parabola, abs=1e-9)
+    cols5, _ = drift.columns(data, None, fx.Effect("drift", 5))
+    at_knots = cols5[[0, 250, 500, 750, 1000]]          # the knots at 0, 25, 50, 75, 100
+    assert at_knots == pytest.approx(np.eye(5)[:, 1:], abs=1e-12)    # each column: its knot's value
+    slope = np.diff(cols5, axis=0)
+    assert np.max(np.abs(np.diff(slope, axis=0))) < 1e-3      # no jump in slope anywhere
+
+
+def test_an_effect_whose_gain_was_the_drifts_knots_is_not_claimed():
+    """A lag under a drift: a hysteresis tried with the drift's knots chosen
+    again took the knots' gain as its own (share 0 %); the newcomer must
+    carry its own.  The lag's time constant is the final model's (it was
+    fitted before the drift was in and moved once it was)."""
+    _, truth, data = overlap_case("thermal_lag+drift", seed=3, noise=0.5, dt=2.0)
+    res = refine(data)
+    j = judge_case(truth, res)
+    assert j["found"] == ["thermal_lag"], j
+    step = next(s for s in res.steps if s.effect == "thermal_lag")
+    final_tau = next(e.param for e in res.final.spec.effects if e.name == "thermal_lag")
+    assert step.params["tau_s"] == final_tau
+    assert abs(final_tau / truth["effects"]["thermal_lag"]["tau_s"] - 1.0) < 0.05
+
+
+def test_no_warm_up_next_to_a_hysteresis_under_a_drift():
+    """The drift's knots chosen before the hysteresis was in were too few;
+    chosen again after it, nothing is left for a short warm-up to take."""
+    _, truth, data = overlap_case("hysteresis+drift", seed=0, noise=0.5, dt=10.0)
+    j = judge_case(truth, refine(data))
+    assert j["found"] == ["hysteresis"] and j["params_within_50pct"]["hysteresis"], j
+
+
+def test_an_effect_the_kept_model_no_longer_needs_is_dropped():
+    """A warm-up taken for part of a drift's settling adds nothing once the
+    drift's knots are chosen again: it is taken out and reported as dropped,
+    not claimed with a share of 0."""
+    _, truth, data = overlap_case("hysteresis+drift", seed=3, noise=1.0, dt=5.0, length_s=8 * 3600.0)
+    rep = refine(data).report()
+    assert "warm_up" not in rep["effects_found"], rep["steps"]
+    assert [d["effect"] for d in rep["dropped"]][:1] == ["warm_up"], rep["dropped"]
+    for d in rep["dropped"]:        # each taken out for carrying less than the material margin
+        assert d["systematic_removed"] < 0.5 * d["reading_noise"], d
+        assert d["effect"] not in rep["effects_found"]
+    assert all(r["share"] > 0.0 for r in rep["shares"]), rep["shares"]
 
 
 def test_drift_knots_are_chosen_again_with_the_effect_in():
@@ -142,3 +199,18 @@ def test_drift_knots_are_chosen_again_with_the_effect_in():
     _, truth, data = roaming_instrument_case(seed=1)
     j = judge_case(truth, refine(data, options_for(truth)))
     assert j["named_right"] and all(j["params_within_50pct"].values()), j
+
+
+def test_a_function_of_time_alone_does_not_trade_for_a_drift_knot():
+    """With the drift's knots chosen again, a warm-up is only another drift:
+    the re-drift trials hold the effects of temperature, never a warm-up
+    (a drift alone, 12 h, got a warm-up of an eighth of the record in
+    place of its fifth knot)."""
+    from pysig.refine import Options
+    from pysig.refine._joint import redrift_trials
+    _, _, data = overlap_case("hysteresis+drift", seed=0, noise=0.5, dt=10.0)
+    model = fx.fit(data, fx.ModelSpec(2, (fx.Effect("drift", 5),)))
+    tried = [(1.0, "warm_up", 0, None, None), (1.1, "hysteresis", 0, None, None)]
+    out = redrift_trials(data, model, tried, Options(), lambda fam, spec: True)
+    assert out and {name for _, name, _, _, _ in out} == {"hysteresis"}
+    assert fx.FAMILIES["warm_up"].time_only and not fx.FAMILIES["hysteresis"].time_only

@@ -36,7 +36,12 @@ def choose_base_order(data, opts, effects=()):
 def repolish(data, spec, passes=2):
     """Refit every nonlinear parameter in turn with the others held
     (coordinate passes), so an effect fitted before a later one is not stuck
-    with the value it took when the model lacked the later one."""
+    with the value it took when the model lacked the later one.  A family
+    with several start variants (a hysteresis's branch before the first
+    sample) takes the one that fits best with the others in: the branch
+    chosen before a drift was in bends to imitate part of the drift.  The
+    variants have the same number of coefficients, so the least squared
+    error chooses among them."""
     model = fx.fit(data, spec)
     n_nonlinear = sum(1 for e in spec.effects if fx.FAMILIES[e.name].param_name)
     for _ in range(passes if n_nonlinear > 1 else 1):
@@ -44,7 +49,9 @@ def repolish(data, spec, passes=2):
             fam = fx.FAMILIES[e.name]
             if fam.param_name is None:
                 continue
-            model = fx.fit_param(data, model.spec.without(e.name), fam, e.variant)
+            rest = model.spec.without(e.name)
+            model = min((fx.fit_param(data, rest, fam, v) for v in fam.variants),
+                        key=lambda m: float(np.sum(m.residual[data.mask] ** 2)))
     return model
 
 
@@ -68,6 +75,24 @@ def reselect(data, model, opts):
     if order == model.spec.base_order:
         return model
     return repolish(data, fx.ModelSpec(order, model.spec.effects))
+
+
+def rechoose_drift(data, model, opts):
+    """After an effect is added: choose the drift's knots again by blocked CV
+    with the effect in (the other parameters held), then re-polish.  Knots
+    chosen before a hysteresis was in were too few (the unexplained branches
+    made a more flexible drift look worse out of sample); a drift with too
+    few knots leaves its settling for a warm-up to take."""
+    drift = next((e for e in model.spec.effects if e.name == "drift"), None)
+    if drift is None:
+        return model
+    rest = model.spec.without("drift")
+    scores = {k: rms(cv_residual(data, rest.with_effect(fx.Effect("drift", k)), opts))
+              for k in fx.FAMILIES["drift"].variants}
+    knots = min(scores, key=scores.get)
+    if knots == drift.variant:
+        return model
+    return repolish(data, rest.with_effect(fx.Effect("drift", knots)))
 
 
 def screen_impulses(data, opts):

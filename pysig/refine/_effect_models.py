@@ -9,7 +9,7 @@ The measurement model refine fits, in the sensor's own unit (LSB, counts):
           + c * (lag_tau(r) - r) / |r|max                 creep
           + sum_k n_k u_r^k  (k >= 2)                     nonlinearity
           + sum_i x_i u_other_i                           cross_axis
-          + sum_j q_j hat_j(t)                            drift (a nuisance)
+          + sum_j q_j s_j(t)                              drift (a nuisance)
     T' = lag_tau(T)  when thermal_lag is in the model, T otherwise
 
 u(T) is T centred and scaled to [-1, 1] (pysig.lsq.center_scale), r the
@@ -26,7 +26,7 @@ what the record can still resolve (a time constant of the whole record, a
 width of the whole span: beyond it the term is a line in time or in
 temperature that the base model already has); only there is it at the edge.
 
-The drift is a slow function of time (piecewise linear over a few knots
+The drift is a slow function of time (a cubic spline through a few knots
 spanning the record) fitted with the temperature model, so the physical
 effects are judged on top of it; it is a nuisance, not a property of the
 device, and is left out of the device correction.
@@ -38,7 +38,7 @@ here are what the fit uses."""
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import optimize, signal, stats
+from scipy import interpolate, optimize, signal, stats
 
 from ..errors import InsufficientDataError
 from ..lsq import center_scale, fit_linear_model
@@ -151,6 +151,7 @@ class Family:
     param_unit = ""
     variants = (0,)
     nuisance = False       # a nuisance term: judged like an effect, never a property of the device
+    time_only = False      # a function of time alone, as the drift is
 
     def unavailable(self, data):
         """None when the family applies to `data`, else the reason it does not."""
@@ -311,13 +312,14 @@ class WarmUp(TimeConstantFamily):
 
     Told apart from the drift by its time scale: a warm-up settles (two time
     constants, 86 %) within the first interval of the most flexible drift,
-    so its knee is one the drift's straight segments cannot follow.  A
-    slower settling is a drift: the drift's piecewise-linear form follows it
-    (an exponential of a fifth of the record keeps 7 % of its spread off a
-    5-knot drift, one of a twelfth 28 %), and the two cannot be told apart.
+    so its knee is one the drift's smooth cubic pieces cannot follow.  A
+    slower settling is a drift: the drift follows it (an exponential of a
+    fifth of the record keeps 1.6 % of its spread off a 5-knot drift, one of
+    an eighth 6 %, one of a twelfth 14 %), and the two cannot be told apart.
     So the search stops there and is not followed further."""
     name = "warm_up"
     SETTLED_TIME_CONSTANTS = 2.0
+    time_only = True
 
     def bounds(self, data):
         knots = max(Drift.variants)
@@ -374,8 +376,12 @@ class CrossAxis(Family):
 
 class Drift(Family):
     """A slow drift in time under the physics (an instrument settling after
-    it is set up, a zero that does not come back): piecewise linear in time
-    over `knots` uniform knots spanning the record (2: a straight line).
+    it is set up, a zero that does not come back): a cubic spline in time
+    through its values at `knots` uniform knots spanning the record
+    (not-a-knot ends; 2 knots: a straight line, 3: a parabola).  Smooth,
+    because a physical drift is: a piecewise-linear drift's corners leave
+    the curvature of a settling for a wide hysteresis or a short warm-up to
+    take (false claims on records with a drift alone).
     A few knots only, so it is slower than any effect it could hide (a
     warm-up or a lag of a fraction of the record).  A nuisance: reported as
     its own line, never exported to the device."""
@@ -398,8 +404,10 @@ class Drift(Family):
 
     def columns(self, data, T_used, effect):
         knots = np.linspace(data.t[0], data.t[-1], effect.variant)
-        # the hats sum to one: the first is the constant the base already has
-        return hat_basis(data.t, knots)[:, 1:], [f"knot{j}" for j in range(1, effect.variant)]
+        # column j: the spline through 1 at knot j and 0 at the others; they
+        # sum to one, so the first is the constant the base already has
+        basis = interpolate.CubicSpline(knots, np.eye(effect.variant), bc_type="not-a-knot")(data.t)
+        return basis[:, 1:], [f"knot{j}" for j in range(1, effect.variant)]
 
 
 FAMILIES = {f.name: f for f in (GainDrift(), ThermalLag(), Hysteresis(), Creep(),

@@ -74,6 +74,9 @@ def redrift_trials(data, model, tried, opts, admissible):
     drift's knots were chosen before the newcomer was in, when the drift
     bent to imitate part of it; with those knots the newcomer looks weak
     (a hysteresis whose branches follow the cold and warm spells in time).
+    A function of time alone (a warm-up) is not among them: with fewer
+    knots it is only another drift, and it would take the place of a knot
+    (a drift alone got a warm-up of an eighth of the record that way).
     Returns [(cv rms, name, variant, e, model)] for the knots other than
     the current ones."""
     drift = next((e for e in model.spec.effects if e.name == "drift"), None)
@@ -81,7 +84,8 @@ def redrift_trials(data, model, tried, opts, admissible):
         return []
     best = {}
     for c, name, v, _, _ in sorted(tried, key=lambda x: x[0]):
-        if name in fx.FAMILIES and not fx.FAMILIES[name].nuisance and name not in best:
+        fam = fx.FAMILIES.get(name)
+        if fam is not None and not fam.nuisance and not fam.time_only and name not in best:
             best[name] = v
     out = []
     for name in list(best)[:MAX_PAIR_MEMBERS]:

@@ -7,14 +7,16 @@ candidate fails, pairs that each help alone are fitted and judged together
 (pysig.refine._joint); a drift in time is one of the candidates, a nuisance
 reported on its own line and never exported to the device.  A candidate whose fitted
 time constant or width sits at the top of its search range is not tried
-(_stopping.at_search_edge)."""
+(_stopping.at_search_edge).  After each step the drift's knots are chosen
+again, and an effect added earlier that no longer carries a material part
+of the gain is taken out (and not tried again)."""
 from dataclasses import replace
 
 import numpy as np
 
 from . import _effect_models as fx
 from . import _robust as robust
-from ._base_model import base_spec, repolish, reselect, screen_impulses
+from ._base_model import base_spec, rechoose_drift, repolish, reselect, screen_impulses
 from ._cross_validation import cv_residual, rms
 from ._diagnostics import candidate_relations, residual_diagnostics
 from ._joint import candidate_of, effect_shares, member_not_needed, pair_trials, redrift_trials
@@ -81,11 +83,17 @@ def refine(data, opts=None):
     return _loop(replace(data, mask=used & ~again), used, again, opts)
 
 
-def _first_passing(trials, e_cv, opts, per_report, n_tried, acceptable=None):
+def _first_passing(trials, e_cv, opts, per_report, n_tried, acceptable=None, material_in_trial=False):
     """The best trial by CV RMS that passes the test (and `acceptable`, given
-    its names, variants and model), with its verdict; None if none does."""
+    its names, variants and model), with its verdict; None if none does.
+    `material_in_trial`: against the current model only the significance
+    and the relative gain are asked; how much the newcomer removes is
+    `acceptable`'s to judge, in the trial's own model."""
     for t in sorted(trials, key=lambda x: x[0]):
         t_ok, t_verdict = judge(e_cv, t[3], opts, per_report, n_tried)
+        if material_in_trial:
+            t_ok = (t_verdict["p_value"] < t_verdict["p_threshold"]
+                    and t_verdict["systematic_gain"] >= opts.min_gain)
         if t_ok and (acceptable is None or acceptable(t[1], t[2], t[4])):
             return t, t_verdict
     return None
@@ -103,7 +111,7 @@ def _loop(data, used, impulses, opts):
                    if fx.FAMILIES[f].unavailable(data)}
     diag_before = residual_diagnostics(data, model.residual, opts.test_blocks)
     relations = candidate_relations(data, model)
-    steps, rejected, at_edge, not_claimed = [], [], [], []
+    steps, rejected, at_edge, not_claimed, dropped = [], [], [], [], []
     shaped = False
 
     def admissible(fam, spec):
@@ -113,7 +121,7 @@ def _loop(data, used, impulses, opts):
         tried, at_edge, not_claimed = [], [], []
         for name in opts.families:
             fam = fx.FAMILIES[name]
-            if name in model.spec.names() or fam.unavailable(data):
+            if name in model.spec.names() or fam.unavailable(data) or name in {d["effect"] for d in dropped}:
                 continue
             for v in fam.variants:
                 trial = fx.fit_param(data, model.spec, fam, v)
@@ -153,7 +161,16 @@ def _loop(data, used, impulses, opts):
             # the drift in the model chosen again with the newcomer in
             redrifted = redrift_trials(data, model, tried, opts, admissible)
             n_tried = n_families + len({n for _, n, _, _, _ in redrifted})
-            found = _first_passing(redrifted, e_cv, opts, per_report, n_tried)
+            # the newcomer must carry a material part of the gain on top of
+            # the re-chosen drift alone (the knots' own gain is not its), and
+            # that is where it is measured: the drift chosen without it took
+            # over part of it, and what that drift leaves may be under the
+            # material margin however large the newcomer is
+            found = _first_passing(
+                redrifted, e_cv, opts, per_report, n_tried,
+                lambda name_, variant_, trial_: member_not_needed(
+                    data, trial_, (name_,), (variant_,), opts, per_report, n_tried) is None,
+                material_in_trial=True)
             if found is not None:
                 (cv_new, name, variant, e_new, trial), verdict = found
                 ok = True
@@ -181,7 +198,7 @@ def _loop(data, used, impulses, opts):
             new_model = trial
             params = [dict(variant)]
         else:
-            new_model = reselect(data, trial, opts)
+            new_model = reselect(data, rechoose_drift(data, trial, opts), opts)
             params = []
             for n in names:
                 eff = next(e for e in new_model.spec.effects if e.name == n)
@@ -203,13 +220,56 @@ def _loop(data, used, impulses, opts):
                               robust.systematic_rms(e_cv_new, per_report),
                               judged_with=[m for m in names if m != n]))
         model, e_cv = new_model, e_cv_new
+        gone = _no_longer_needed(data, model, opts, per_report, n_families)
+        if gone is not None:
+            # an effect the rest of the kept model now explains (the
+            # newcomer, the drift's knots chosen again with it): out, and
+            # not tried again
+            model = repolish(data, model.spec.without(gone["effect"]))
+            e_cv = cv_residual(data, model.spec, opts)
+            steps = [s for s in steps if s.effect != gone["effect"]]
+            dropped.append({**gone, "with": model.spec.names()})
+    _final_parameters(steps, model)
     return Result(data=data, base=base, final=model, base_order_cv=order_cv, steps=steps,
                   rejected=rejected, at_edge=at_edge, base_cv_rms=base_cv, final_cv_rms=rms(e_cv),
                   diagnostics_before=diag_before,
                   diagnostics_after=residual_diagnostics(data, model.residual, opts.test_blocks),
                   relations_before=relations, unavailable=unavailable, test=stop_test(opts),
-                  used=used, impulses=impulses, not_claimed=not_claimed,
+                  used=used, impulses=impulses, not_claimed=not_claimed, dropped=dropped,
                   per_report=per_report, report_s=opts.report_s,
                   shares=effect_shares(data, model, e_cv, opts, per_report) if model.spec.effects else [],
                   base_cv_systematic=robust.systematic_rms(e_base, per_report),
                   final_cv_systematic=robust.systematic_rms(e_cv, per_report))
+
+
+def _final_parameters(steps, model):
+    """Each step reports the parameters its effect has in the final model
+    (what the device correction uses): a later effect re-polishes an earlier
+    one's time constant or width (a lag fitted before the drift bends to
+    imitate it) and the drift's knots are chosen again.  A value it was
+    added with that differs stays as `<name>_when_added`."""
+    for step in steps:
+        eff = next((e for e in model.spec.effects if e.name == step.effect), None)
+        if eff is None:
+            continue
+        for key, value in fx.FAMILIES[step.effect].describe(eff).items():
+            added = step.params.get(key)
+            if added is not None and added != value:
+                step.params[f"{key}_when_added"] = added
+                step.params[key] = value
+
+
+def _no_longer_needed(data, model, opts, per_report, n_tried):
+    """The first physical effect of `model` that does not carry a material
+    part of the gain on top of the rest of it (the test a pair's members
+    pass, _joint.member_not_needed), or None.  Effects are judged together,
+    in the model as kept: a warm-up taken for part of a drift's settling
+    adds nothing once the drift's knots are chosen again, and would ride
+    along with a share of 0."""
+    for eff in model.spec.effects:
+        if fx.FAMILIES[eff.name].nuisance:
+            continue
+        why = member_not_needed(data, model, (eff.name,), (eff.variant,), opts, per_report, n_tried)
+        if why is not None:
+            return why
+    return None

@@ -57,6 +57,7 @@ class Result:
     per_report: int = 1          # samples in one reported reading
     report_s: float = DEFAULT_REPORT_S
     shares: list = field(default_factory=list)      # each term's share of the systematic error removed
+    dropped: list = field(default_factory=list)     # effects taken out again: a later one explains them
     base_cv_systematic: float = float("nan")
     final_cv_systematic: float = float("nan")
 
@@ -139,6 +140,7 @@ class Result:
             "shares": self.shares,
             "not_added": self.rejected,
             "not_claimed": self.not_claimed,
+            "dropped": self.dropped,
             "at_search_edge": self.at_edge,
             "unexplained": unexplained,
             "residual_vs_candidates_before": self.relations_before,

@@ -99,6 +99,20 @@ def grid_cases(seeds=(0,)):
                                                length_s=length_s, unit=unit)
 
 
+HELD_OUT = dict(noise=1.0, dt=5.0, length_s=8 * 3600.0, seeds=(3, 11))
+
+
+def held_out_cases(seeds=HELD_OUT["seeds"]):
+    """Every kind in both units at a noise level, sample rate, length and
+    seeds the grid does not hold: the check that a rule was not fitted to
+    the grid."""
+    for kind in KINDS:
+        for unit in UNITS:
+            for seed in seeds:
+                yield overlap_case(kind, seed=seed, noise=HELD_OUT["noise"], dt=HELD_OUT["dt"],
+                                   length_s=HELD_OUT["length_s"], unit=unit)
+
+
 def plate_resistor_case(seed=0, dt=2.0, noise_ohm=0.02):
     """A resistor (100 Ω, 3850 ppm/K) on a plate stepped 1 K at a time from
     20 to 35 °C (a hold of 4-6 min per step), then left to cool towards

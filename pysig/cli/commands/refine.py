@@ -148,7 +148,7 @@ def build_data(joined, t, measured, refs, i, temp, inputs, segments=(0,)):
 def _fmt_params(params):
     items = []
     for k, v in params.items():
-        if k == "coefficients":
+        if k == "coefficients" or k.endswith("_when_added"):    # the table shows the final model's value
             continue
         items.append(f"{k}={v:.4g}" if isinstance(v, float) else f"{k}={v}")
     return " ".join(items) or "-"
@@ -226,6 +226,10 @@ def format_table(name, result, start=None):
                      f"reading noise {r['reading_noise']:.3g}, p = {_p_text(r['p_value'])}, needs < "
                      f"{r['p_threshold']:.2g})"
                      + ("; its model as kept scores worse out of sample" if r.get("kept_model_cv_worse") else ""))
+    for r in rep.get("dropped", []):
+        lines.append(f"  dropped: {r['effect']} (with {' + '.join(r['with']) or 'the offset'} in, it removed "
+                     f"{r['systematic_removed']:.3g} of a reading's systematic error vs reading noise "
+                     f"{r['reading_noise']:.3g}: not material)")
     for r in {r["effect"]: r for r in rep["not_claimed"]}.values():
         lines.append(f"  not claimed: {r['effect']} ({r['reason']})")
     for r in {r["effect"]: r for r in rep["at_search_edge"]}.values():     # one line per effect
