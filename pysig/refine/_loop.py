@@ -83,18 +83,22 @@ def refine(data, opts=None):
     return _loop(replace(data, mask=used & ~again), used, again, opts)
 
 
-def _first_passing(trials, e_cv, opts, per_report, n_tried, acceptable=None, material_in_trial=False):
-    """The best trial by CV RMS that passes the test (and `acceptable`, given
-    its names, variants and model), with its verdict; None if none does.
+def _first_passing(data, trials, e_cv, opts, per_report, n_families, material_in_trial=False):
+    """The best trial by CV RMS (one effect or a pair) that passes the test
+    and needs every member it names (_joint.member_not_needed), with its
+    verdict; None if none does.  The Bonferroni count is `n_families` plus
+    the distinct names the trials try.
     `material_in_trial`: against the current model only the significance
     and the relative gain are asked; how much the newcomer removes is
-    `acceptable`'s to judge, in the trial's own model."""
+    judged in the trial's own model."""
+    n_tried = n_families + len({t[1] for t in trials})
     for t in sorted(trials, key=lambda x: x[0]):
         t_ok, t_verdict = judge(e_cv, t[3], opts, per_report, n_tried)
         if material_in_trial:
             t_ok = (t_verdict["p_value"] < t_verdict["p_threshold"]
                     and t_verdict["systematic_gain"] >= opts.min_gain)
-        if t_ok and (acceptable is None or acceptable(t[1], t[2], t[4])):
+        names, variants = (t[1], t[2]) if isinstance(t[1], tuple) else ((t[1],), (t[2],))
+        if t_ok and member_not_needed(data, t[4], names, variants, opts, per_report, n_tried) is None:
             return t, t_verdict
     return None
 
@@ -158,36 +162,25 @@ def _loop(data, used, impulses, opts):
         n_families = len({n for _, n, _, _, _ in tried})
         ok, verdict = judge(e_cv, e_new, opts, per_report, n_families)
         if not ok:
-            # the drift in the model chosen again with the newcomer in
-            redrifted = redrift_trials(data, model, tried, opts, admissible)
-            n_tried = n_families + len({n for _, n, _, _, _ in redrifted})
-            # the newcomer must carry a material part of the gain on top of
-            # the re-chosen drift alone (the knots' own gain is not its), and
+            # the drift in the model chosen again with the newcomer in: the
+            # newcomer must carry a material part of the gain on top of the
+            # re-chosen drift alone (the knots' own gain is not its), and
             # that is where it is measured: the drift chosen without it took
             # over part of it, and what that drift leaves may be under the
             # material margin however large the newcomer is
-            found = _first_passing(
-                redrifted, e_cv, opts, per_report, n_tried,
-                lambda name_, variant_, trial_: member_not_needed(
-                    data, trial_, (name_,), (variant_,), opts, per_report, n_tried) is None,
-                material_in_trial=True)
+            found = _first_passing(data, redrift_trials(data, model, tried, opts, admissible),
+                                   e_cv, opts, per_report, n_families, material_in_trial=True)
+            knots_rechosen = found is not None
+            if found is None:
+                # two overlapping effects can each fail alone and pass together
+                found = _first_passing(data, pair_trials(data, model, tried, opts, admissible),
+                                       e_cv, opts, per_report, n_families)
             if found is not None:
                 (cv_new, name, variant, e_new, trial), verdict = found
                 ok = True
-                summary += [{"effect": name, "variant": variant, "cv_rms": cv_new,
-                             "drift_knots_rechosen": True}]
-        if not ok:
-            # two overlapping effects can each fail alone and pass together
-            pairs = pair_trials(data, model, tried, opts, admissible)
-            n_tried = n_families + len({names for _, names, _, _, _ in pairs})
-            found = _first_passing(
-                pairs, e_cv, opts, per_report, n_tried,
-                lambda names, variants, joint: member_not_needed(
-                    data, joint, names, variants, opts, per_report, n_tried) is None)
-            if found is not None:
-                (cv_new, name, variant, e_new, trial), verdict = found
-                ok = True
-                summary += [{"effect": " + ".join(name), "variant": list(variant), "cv_rms": cv_new}]
+                summary += [{"effect": name, "variant": variant, "cv_rms": cv_new, "drift_knots_rechosen": True}
+                            if knots_rechosen else
+                            {"effect": " + ".join(name), "variant": list(variant), "cv_rms": cv_new}]
         if not ok:
             rejected = [{"effect": name, "variant": variant, "cv_rms": cv_new, "cv_rms_now": cv_old,
                          "cv_gain": 1.0 - cv_new / cv_old if cv_old > 0 else 0.0, **verdict}]
