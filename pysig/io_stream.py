@@ -79,11 +79,13 @@ def _csv_batches(path, header, wanted, numeric, strings, block_bytes):
     convert.include_columns = wanted
     offset = 0
     try:
-        reader = pcsv.open_csv(path, read_options=read, convert_options=convert, parse_options=parse)
-        for batch in reader:
-            if batch.num_rows:
-                yield offset, batch.select(wanted)
-                offset += batch.num_rows
+        # closed here, not at interpreter exit: a streaming reader's read-ahead
+        # thread still alive at teardown can abort the process (apache/arrow#34314)
+        with pcsv.open_csv(path, read_options=read, convert_options=convert, parse_options=parse) as reader:
+            for batch in reader:
+                if batch.num_rows:
+                    yield offset, batch.select(wanted)
+                    offset += batch.num_rows
     except pa.ArrowInvalid as exc:
         if found:
             raise _short_row(path, header, found[0]) from None
@@ -101,11 +103,12 @@ def _stream_conversion_error(path, header, skipped, delimiter, numeric, offset, 
                                            delimiter=delimiter)
         convert.include_columns = [name]
         start = 0
-        for batch in pcsv.open_csv(path, read_options=read, convert_options=convert, parse_options=parse):
-            i = first_unconvertible(batch.column(0))
-            if i is not None:
-                return not_a_number(path, start + i, name, batch.column(0)[i].as_py())
-            start += batch.num_rows
+        with pcsv.open_csv(path, read_options=read, convert_options=convert, parse_options=parse) as reader:
+            for batch in reader:
+                i = first_unconvertible(batch.column(0))
+                if i is not None:
+                    return not_a_number(path, start + i, name, batch.column(0)[i].as_py())
+                start += batch.num_rows
     text = str(exc)
     column = ""
     if "column #" in text:
