@@ -236,9 +236,11 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = SIG_REAL(0.0);
+    c->level = SIG_REAL(0.0);
     c->trend_mean = SIG_REAL(0.0);
     c->drift_age = 0u;
     c->drifting = true;
+    c->has_level = c->hold_block = false;
     (void)sig_noise_reset_f(&c->noise);
     set_thresholds_f(c);
     return SIG_OK;
@@ -288,9 +290,15 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     st = sig_stable_step_f(&c->st, xk, &stab);
     if (st < 0) return st;
     c->settled = stab;
-    if (c->noise_auto && sig_chain_drift_due(c->ap.count < c->ap.n, &c->drift_age, c->ap.n, &c->drifting)) {
+    if (c->noise_auto
+        && sig_chain_drift_due(c->ap.count < c->ap.n,
+                               c->ap.count < c->ap.n && c->has_level
+                               && (xk - c->level > c->noise.sigma * SIG_REAL(1024.0)
+                                                || c->level - xk > c->noise.sigma * SIG_REAL(1024.0)),
+                               &c->drift_age, c->ap.n, &c->drifting, &c->hold_block)) {
         if (c->ap.count == c->ap.n)
-            c->drifting = xk - c->anchor > c->noise.sigma || c->anchor - xk > c->noise.sigma;
+            c->drifting = sig_chain_drift_verdict(xk - c->anchor > c->noise.sigma || c->anchor - xk > c->noise.sigma,
+                                                  &c->hold_block);
         c->anchor = xk;
     }
     trending = c->noise_auto
@@ -299,6 +307,10 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
         stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, trending,
                                 y - xk <= c->near_band && xk - y <= c->near_band
                                 && m - xk <= c->noise.sigma && xk - m <= c->noise.sigma);
+    if (stab) {
+        c->level = xk;
+        c->has_level = true;
+    }
     if (stab && sig_chain_offset_f(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
         ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = xk - c->offset;
@@ -418,10 +430,12 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = 0;
+    c->level = 0;
     c->trend_mean = 0;
     c->trending = false;
     c->drift_age = 0u;
     c->drifting = true;
+    c->has_level = c->hold_block = false;
     (void)sig_noise_reset_q(&c->noise);
     set_thresholds_q(c);
     return SIG_OK;
@@ -468,8 +482,14 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
     (void)sig_kalman1_step_q(&c->kf, m7, &xk);
     (void)sig_stable_step_q(&c->st, xk, &stab);
     c->settled = stab;
-    if (c->noise_auto && sig_chain_drift_due(c->ap.count < c->ap.n, &c->drift_age, c->ap.n, &c->drifting)) {
-        if (c->ap.count == c->ap.n) c->drifting = sig_abs32_sat(sig_sat_sub32(xk, c->anchor)) > c->noise.sigma;
+    if (c->noise_auto
+        && sig_chain_drift_due(c->ap.count < c->ap.n,
+                               c->ap.count < c->ap.n && c->has_level
+                               && (sig_abs32_sat(sig_sat_sub32(xk, c->level)) >> 10) > c->noise.sigma,
+                               &c->drift_age, c->ap.n, &c->drifting, &c->hold_block)) {
+        if (c->ap.count == c->ap.n)
+            c->drifting = sig_chain_drift_verdict(sig_abs32_sat(sig_sat_sub32(xk, c->anchor)) > c->noise.sigma,
+                                                  &c->hold_block);
         c->anchor = xk;
     }
     /* the verdict in the state, not in a local: the 8051's stack holds
@@ -481,6 +501,10 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
         stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, c->trending,
                                 sig_abs32_sat(sig_sat_sub32(codes_to_q7(y), xk)) <= c->near_band
                                 && sig_abs32_sat(sig_sat_sub32(m7, xk)) <= c->noise.sigma);
+    if (stab) {
+        c->level = xk;
+        c->has_level = true;
+    }
     if (stab && sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
         ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = sig_sat_sub32(xk, c->offset);
