@@ -184,6 +184,21 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
 #define HALF_F(v) ((v) * SIG_REAL(0.5))
 #define HALF_Q(v) sig_asr32((v), 1u)
 
+/* |a - b| > band: one function per form for the chain's distance tests (an
+ * inline float comparison is a library call on the 8051, and the code space
+ * of its builds is nearly full) */
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
+static bool apart_f(sig_real a, sig_real b, sig_real band)
+{
+    return a - b > band || b - a > band;    /* no |a - b|: the difference may overflow */
+}
+#endif /* SIG_NO_FLOAT */
+
+static bool apart_q(int32_t a, int32_t b, int32_t band)   /* Q24.7, saturating */
+{
+    return sig_abs32_sat(sig_sat_sub32(a, b)) > band;
+}
+
 #ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 static bool ramp_before_f(sig_chain_f *c, sig_real x)
 {
@@ -273,7 +288,7 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     }
     (void)sig_antipulse_step_f(&c->ap, y, &m);
     if (c->motion_band > SIG_REAL(0.0) && c->kf.seeded && !c->ramp
-        && sig_chain_motion(m - c->kf.x > c->motion_band || c->kf.x - m > c->motion_band,
+        && sig_chain_motion(apart_f(m, c->kf.x, c->motion_band),
                             &c->motion_run, c->motion_count)) {
         (void)sig_antipulse_reset_f(&c->ap);
         (void)sig_antipulse_step_f(&c->ap, y, &m);
@@ -293,20 +308,17 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     if (c->noise_auto
         && sig_chain_drift_due(c->ap.count < c->ap.n,
                                c->ap.count < c->ap.n && c->has_level
-                               && (xk - c->level > c->noise.sigma * SIG_REAL(1024.0)
-                                                || c->level - xk > c->noise.sigma * SIG_REAL(1024.0)),
+                               && apart_f(xk, c->level, c->noise.sigma * SIG_REAL(1024.0)),
                                &c->drift_age, c->ap.n, &c->drifting, &c->hold_block)) {
         if (c->ap.count == c->ap.n)
-            c->drifting = sig_chain_drift_verdict(xk - c->anchor > c->noise.sigma || c->anchor - xk > c->noise.sigma,
-                                                  &c->hold_block);
+            c->drifting = sig_chain_drift_verdict(apart_f(xk, c->anchor, c->noise.sigma), &c->hold_block);
         c->anchor = xk;
     }
     trending = c->noise_auto
                && sig_chain_trend_f(c->ap.count < c->ap.n, y - xk, c->noise.sigma, &c->trend_mean);
     if (c->noise_auto && stab)
         stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, trending,
-                                y - xk <= c->near_band && xk - y <= c->near_band
-                                && m - xk <= c->noise.sigma && xk - m <= c->noise.sigma);
+                                !apart_f(y, xk, c->near_band) && !apart_f(m, xk, c->noise.sigma));
     if (stab) {
         c->level = xk;
         c->has_level = true;
@@ -468,7 +480,7 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
     (void)sig_antipulse_step_q(&c->ap, y, &m);
     m7 = codes_to_q7(m);
     if (c->motion_band > 0 && c->kf.seeded && !c->ramp
-        && sig_chain_motion(sig_abs32_sat(sig_sat_sub32(m7, c->kf.x)) > c->motion_band,
+        && sig_chain_motion(apart_q(m7, c->kf.x, c->motion_band),
                             &c->motion_run, c->motion_count)) {
         (void)sig_antipulse_reset_q(&c->ap);
         (void)sig_antipulse_step_q(&c->ap, y, &m);
@@ -488,8 +500,7 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
                                && (sig_abs32_sat(sig_sat_sub32(xk, c->level)) >> 10) > c->noise.sigma,
                                &c->drift_age, c->ap.n, &c->drifting, &c->hold_block)) {
         if (c->ap.count == c->ap.n)
-            c->drifting = sig_chain_drift_verdict(sig_abs32_sat(sig_sat_sub32(xk, c->anchor)) > c->noise.sigma,
-                                                  &c->hold_block);
+            c->drifting = sig_chain_drift_verdict(apart_q(xk, c->anchor, c->noise.sigma), &c->hold_block);
         c->anchor = xk;
     }
     /* the verdict in the state, not in a local: the 8051's stack holds
@@ -499,8 +510,7 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
                                        &c->trend_mean);
     if (c->noise_auto && stab)
         stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, c->trending,
-                                sig_abs32_sat(sig_sat_sub32(codes_to_q7(y), xk)) <= c->near_band
-                                && sig_abs32_sat(sig_sat_sub32(m7, xk)) <= c->noise.sigma);
+                                !apart_q(codes_to_q7(y), xk, c->near_band) && !apart_q(m7, xk, c->noise.sigma));
     if (stab) {
         c->level = xk;
         c->has_level = true;
