@@ -251,11 +251,10 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = SIG_REAL(0.0);
-    c->level = SIG_REAL(0.0);
     c->trend_mean = SIG_REAL(0.0);
     c->drift_age = 0u;
     c->drifting = true;
-    c->has_level = c->hold_block = false;
+    c->has_level = c->hold_block = false;     /* level is read only once has_level is set */
     (void)sig_noise_reset_f(&c->noise);
     set_thresholds_f(c);
     return SIG_OK;
@@ -322,9 +321,9 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     if (stab) {
         c->level = xk;
         c->has_level = true;
+        if (sig_chain_offset_f(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
+            ret = (sig_status)(ret | SIG_CHAIN_TARED);
     }
-    if (stab && sig_chain_offset_f(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
-        ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = xk - c->offset;
     c->stable = stab;
     c->has_out = true;
@@ -442,12 +441,11 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->ramp = c->missed = c->paused = c->followed = false;
     c->settled = false;
     c->anchor = 0;
-    c->level = 0;
     c->trend_mean = 0;
     c->trending = false;
     c->drift_age = 0u;
     c->drifting = true;
-    c->has_level = c->hold_block = false;
+    c->has_level = c->hold_block = false;     /* level is read only once has_level is set */
     (void)sig_noise_reset_q(&c->noise);
     set_thresholds_q(c);
     return SIG_OK;
@@ -514,9 +512,9 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
     if (stab) {
         c->level = xk;
         c->has_level = true;
+        if (sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
+            ret = (sig_status)(ret | SIG_CHAIN_TARED);
     }
-    if (stab && sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
-        ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = sig_sat_sub32(xk, c->offset);
     c->stable = stab;
     c->has_out = true;
