@@ -6,6 +6,7 @@ A PysigError becomes one line on stderr and the error's own exit status;
 output files are written atomically, so a failure leaves none behind."""
 import argparse
 import importlib
+import os
 import pkgutil
 import sys
 
@@ -63,5 +64,23 @@ def main(argv=None):
     return 0 if result is None else int(result)
 
 
+def entry():
+    """The `pysig` program: main(), its output flushed, then the process ends
+    at once with main's status.  The interpreter's teardown is skipped: with
+    pyarrow's thread pools started (every CSV read starts them) it aborts
+    the process about once in 150 runs after the work is done and its files
+    are written ("terminate called without an active exception", exit
+    -6; apache/arrow#34314), which would turn a good run, or a refused one,
+    into a crash.  Every output is closed before main returns (atomic
+    writes), so nothing is left for the teardown to do."""
+    status = main()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):       # a closed pipe: nothing more to deliver
+            pass
+    os._exit(status)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    entry()

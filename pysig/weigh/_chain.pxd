@@ -5,7 +5,7 @@ from libc.stdint cimport int8_t, int16_t, int32_t, uint8_t, uint32_t
 cdef extern from "sig_types.h":
     ctypedef double sig_real
     ctypedef int16_t sig_status
-    ctypedef int c_bool "bool"
+    ctypedef bint c_bool "bool"
 
 cdef extern from "sig_limit.h":
     # only the fields the wrapper reads; the layout is the header's

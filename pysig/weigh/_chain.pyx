@@ -76,18 +76,9 @@ def auto_params(fixed=False):
     cdef sig_chain_params_q pq
     if fixed:
         sig_chain_params_auto_q(&pq)
-        return dict(a0=pq.a0, window=pq.window, q_q30=pq.q_q30, p0_q16=pq.p0_q16, x0_q7=pq.x0_q7,
-                    seed_first=bool(pq.seed_first), stable_step_q7=pq.stable_step_q7,
-                    stable_count=pq.stable_count, lockout_n=pq.lockout_n,
-                    motion_band_q7=pq.motion_band_q7, motion_count=pq.motion_count,
-                    zero_band_q7=pq.zero_band_q7, zero_rate_q7=pq.zero_rate_q7,
-                    noise_auto=bool(pq.noise_auto))
+        return pq
     sig_chain_params_auto_f(&pf)
-    return dict(a0=pf.a0, window=pf.window, q=pf.q, r=pf.r, p0=pf.p0, x0=pf.x0,
-                seed_first=bool(pf.seed_first), stable_step=pf.stable_step,
-                stable_count=pf.stable_count, lockout_n=pf.lockout_n, motion_band=pf.motion_band,
-                motion_count=pf.motion_count, zero_band=pf.zero_band, zero_rate=pf.zero_rate,
-                noise_auto=bool(pf.noise_auto))
+    return pf
 
 
 # ---- what every stage shares ------------------------------------------------
@@ -99,6 +90,94 @@ cdef class _Stage:
     def step(self, x):
         """One sample through process(), the state carried on."""
         return self.process(np.array([x], dtype=np.float64))[0]
+
+
+# ---- the loop of the stages that give one value per sample ------------------
+# Limit, anti-pulse and Kalman share one step shape in both numeric forms:
+# status = step(state, sample, &value), sample and value a sig_real in the
+# float form, an int32 in the fixed form (codes; Q24.7 in the Kalman
+# stage, whose input is scaled by 128 and output divided by 128).  One loop
+# runs any of them.
+cdef class LimitFilter
+cdef class AntiPulse
+cdef class Kalman1
+
+ctypedef fused value_stage:
+    LimitFilter
+    AntiPulse
+    Kalman1
+
+ctypedef fused sample:
+    sig_real            # the float form
+    int32_t             # the fixed form: ADC codes, or Q24.7 in the Kalman stage
+
+
+cdef inline sig_status _value_step(value_stage stage, sample x, sample *y) noexcept nogil:
+    """One sample through the stage, in the numeric form of `sample`."""
+    if value_stage is LimitFilter:
+        if sample is int32_t:
+            return sig_limit_step_q(&stage.q, x, y)
+        else:
+            return sig_limit_step_f(&stage.f, x, y)
+    elif value_stage is AntiPulse:
+        if sample is int32_t:
+            return sig_antipulse_step_q(&stage.q, x, y)
+        else:
+            return sig_antipulse_step_f(&stage.f, x, y)
+    else:
+        if sample is int32_t:
+            return sig_kalman1_step_q(&stage.q, x, y)
+        else:
+            return sig_kalman1_step_f(&stage.f, x, y)
+
+
+cdef sig_status _value_loop(value_stage stage, const sample[::1] x, double[::1] out,
+                            int16_t[::1] status) noexcept nogil:
+    """Every sample of `x` through the stage: its value in `out` (in codes
+    for the fixed form; NaN where the step failed), its status in `status`
+    unless that is empty.  Returns the last status."""
+    cdef Py_ssize_t i
+    cdef sample y
+    cdef sig_status st = 0
+    cdef bint keep = status.shape[0] != 0
+    for i in range(x.shape[0]):
+        st = _value_step(stage, x[i], &y)
+        if st < 0:
+            out[i] = NAN
+        elif sample is int32_t and value_stage is Kalman1:
+            out[i] = y / 128.0          # Q24.7
+        else:
+            out[i] = y
+        if keep:
+            status[i] = st
+    return st
+
+
+cdef tuple _process_values(value_stage stage, x, bint keep_status, finite_note):
+    """process() of a stage that gives one value per sample: (float64
+    values, int16 status per sample (empty unless `keep_status`), the last
+    status).  The input as _stage_input takes it (`finite_note` for the
+    float form's finiteness check, None when the stage takes NaN and inf).
+    The Kalman stage's fixed form runs in Q24.7: codes clipped to the
+    24-bit range, times 128, in; its values divided by 128."""
+    cdef bint q7 = value_stage is Kalman1
+    codes, values, n = _stage_input(x, stage.fixed, finite_note, code_range=q7, q7=q7)
+    out = np.empty(n)
+    status = np.empty(n if keep_status else 0, dtype=np.int16)
+    cdef double[::1] out_view = out
+    cdef int16_t[::1] status_view = status
+    cdef const int32_t[::1] xq
+    cdef const sig_real[::1] xf
+    cdef sig_status last = 0
+    if stage.fixed:
+        xq = codes
+        with nogil:
+            last = _value_loop(stage, xq, out_view, status_view)
+    else:
+        xf = values
+        with nogil:
+            last = _value_loop(stage, xf, out_view, status_view)
+    return out, status, last
 
 
 # ---- stage 1 ---------------------------------------------------------------
@@ -121,7 +200,9 @@ cdef class LimitFilter(_Stage):
     Raises
     ------
     RangeError
-        A parameter outside its range (named in the message).
+        `a0` not a finite number > 0 (in the fixed form: 0 codes once
+        rounded) or `lockout_n` not an integer in 0..255, named in the
+        message.
 
     Examples
     --------
@@ -139,37 +220,17 @@ cdef class LimitFilter(_Stage):
         a, n = _p.limit_params(a0, lockout_n, fixed)     # validates, names the bad parameter
         self.fixed = fixed
         self.status = 0
-        if fixed:
-            _check_init(sig_limit_init_q(&self.q, a, n), "LimitFilter")
-        else:
-            _check_init(sig_limit_init_f(&self.f, a, n), "LimitFilter")
+        _check_init(sig_limit_init_q(&self.q, a, n) if fixed else sig_limit_init_f(&self.f, a, n),
+                    "LimitFilter")
 
     def reset(self):
         sig_limit_reset_q(&self.q) if self.fixed else sig_limit_reset_f(&self.f)
 
     def process(self, x, flags=False):
-        cdef cnp.ndarray[cnp.float64_t] out, xf
-        cdef cnp.ndarray[cnp.int16_t] stat
-        cdef cnp.ndarray[cnp.int32_t] xq
-        cdef Py_ssize_t i, n
-        cdef sig_real y
-        cdef int32_t yq
-        cdef sig_status st = 0
-        xq, xf, n = _stage_input(x, self.fixed)
-        out = np.empty(n)
-        stat = np.empty(n, dtype=np.int16)
-        with nogil:
-            for i in range(n):
-                if self.fixed:
-                    st = sig_limit_step_q(&self.q, xq[i], &yq)
-                    out[i] = yq
-                else:
-                    st = sig_limit_step_f(&self.f, xf[i], &y)
-                    out[i] = y if st >= 0 else NAN
-                stat[i] = st
-        if n:
-            self.status = stat[n - 1]
-        return (out, stat) if flags else out
+        out, status, last = _process_values[LimitFilter](self, x, flags, None)
+        if out.shape[0]:
+            self.status = last
+        return (out, status) if flags else out
 
     @property
     def Dc(self):
@@ -215,33 +276,17 @@ cdef class AntiPulse(_Stage):
         n = _p.window_param(window)
         self.fixed = fixed
         self.status = 0
-        if fixed:
-            _check_init(sig_antipulse_init_q(&self.q, n), "AntiPulse")
-        else:
-            _check_init(sig_antipulse_init_f(&self.f, n), "AntiPulse")
+        _check_init(sig_antipulse_init_q(&self.q, n) if fixed else sig_antipulse_init_f(&self.f, n),
+                    "AntiPulse")
 
     def reset(self):
         sig_antipulse_reset_q(&self.q) if self.fixed else sig_antipulse_reset_f(&self.f)
 
     def process(self, x):
-        cdef cnp.ndarray[cnp.float64_t] out, xf
-        cdef cnp.ndarray[cnp.int32_t] xq
-        cdef Py_ssize_t i, n
-        cdef sig_real y
-        cdef int32_t yq
-        cdef sig_status st = 0
-        xq, xf, n = _stage_input(x, self.fixed, "the anti-pulse stage alone takes finite samples")
-        out = np.empty(n)
-        with nogil:
-            for i in range(n):
-                if self.fixed:
-                    st = sig_antipulse_step_q(&self.q, xq[i], &yq)
-                    out[i] = yq
-                else:
-                    st = sig_antipulse_step_f(&self.f, xf[i], &y)
-                    out[i] = y
-        if n:
-            self.status = st
+        out, _, last = _process_values[AntiPulse](self, x, False,
+                                                  "the anti-pulse stage alone takes finite samples")
+        if out.shape[0]:
+            self.status = last
         return out
 
     @property
@@ -253,8 +298,36 @@ cdef class AntiPulse(_Stage):
         return self.q.count if self.fixed else self.f.count
 
 
+# ---- the Kalman estimate, read from the stage alone or from the chain -------
+cdef class _KalmanReadings(_Stage):
+    """x, K, P and the innovation of a Kalman state in signal units, for
+    the Kalman stage and for the chain (its third stage)."""
+    cdef const sig_kalman1_f *kalman_f      # the state inside the object, set by __cinit__
+    cdef const sig_kalman1_q *kalman_q
+    cdef double r                           # R, signal units squared
+
+    @property
+    def x(self):
+        return self.kalman_q.x / 128.0 if self.fixed else self.kalman_f.x
+
+    @property
+    def K(self):
+        return (1073741824 - self.kalman_q.y) / 1073741824.0 if self.fixed else self.kalman_f.k
+
+    @property
+    def P(self):
+        """P (for the fixed form: K * R, since P/R equals K after an update)."""
+        if not self.fixed:
+            return self.kalman_f.p
+        return self.kalman_q.p0 / 65536.0 * self.r if self.kalman_q.phase == 0 else self.K * self.r
+
+    @property
+    def innovation(self):
+        return self.kalman_q.innov / 128.0 if self.fixed else self.kalman_f.innov
+
+
 # ---- stage 3 ---------------------------------------------------------------
-cdef class Kalman1(_Stage):
+cdef class Kalman1(_KalmanReadings):
     """Scalar Kalman filter, A = H = 1, the chain's third stage.
 
     Parameters
@@ -273,7 +346,9 @@ cdef class Kalman1(_Stage):
     Raises
     ------
     RangeError
-        A parameter outside its range (named in the message).
+        Q, R, x0 or P0 not finite, Q or P0 negative, R not positive (the
+        fixed form: Q/R outside 0..1 or P0/R outside 0..16384), named in
+        the message.
 
     Examples
     --------
@@ -284,12 +359,14 @@ cdef class Kalman1(_Stage):
     """
     cdef sig_kalman1_f f
     cdef sig_kalman1_q q
-    cdef readonly double R
+
+    def __cinit__(self, *args, **kwargs):
+        self.kalman_f, self.kalman_q = &self.f, &self.q
 
     def __init__(self, Q=1e-7, R=0.05, x0=1.0, P0=10.0, seed_first=False, fixed=False):
         Q, R, x0, P0 = _p.kalman_params(Q, R, x0, P0)
         self.fixed = fixed
-        self.R = R
+        self.r = R
         if fixed:
             q, p0, x0_q7 = _p.kalman_fixed_params(Q, R, P0, x0)
             _check_init(sig_kalman1_init_q(&self.q, q, p0, x0_q7, bool(seed_first)), "Kalman1")
@@ -304,43 +381,13 @@ cdef class Kalman1(_Stage):
         sig_kalman1_restart_q(&self.q) if self.fixed else sig_kalman1_restart_f(&self.f)
 
     def process(self, z):
-        cdef cnp.ndarray[cnp.float64_t] out, zf
-        cdef cnp.ndarray[cnp.int32_t] zq
-        cdef Py_ssize_t i, n
-        cdef sig_real y
-        cdef int32_t yq
-        zq, zf, n = _stage_input(z, self.fixed, "the Kalman stage alone takes finite samples",
-                                 code_range=True, q7=True)
-        out = np.empty(n)
-        with nogil:
-            if self.fixed:
-                for i in range(n):
-                    sig_kalman1_step_q(&self.q, zq[i], &yq)
-                    out[i] = yq / 128.0
-            else:
-                for i in range(n):
-                    sig_kalman1_step_f(&self.f, zf[i], &y)
-                    out[i] = y
+        out, _, _ = _process_values[Kalman1](self, z, False, "the Kalman stage alone takes finite samples")
         return out
 
     @property
-    def x(self):
-        return self.q.x / 128.0 if self.fixed else self.f.x
-
-    @property
-    def K(self):
-        return (1073741824 - self.q.y) / 1073741824.0 if self.fixed else self.f.k
-
-    @property
-    def P(self):
-        """P (for the fixed form: K * R, since P/R equals K after an update)."""
-        if not self.fixed:
-            return self.f.p
-        return self.q.p0 / 65536.0 * self.R if self.q.phase == 0 else self.K * self.R
-
-    @property
-    def innovation(self):
-        return self.q.innov / 128.0 if self.fixed else self.f.innov
+    def R(self):
+        """The measurement noise variance, signal units squared."""
+        return self.r
 
     @property
     def seeded(self):
@@ -379,10 +426,8 @@ cdef class StabilityDetector(_Stage):
     def __init__(self, step=0.01, count=1, fixed=False):
         step_value, n = _p.stable_params(step, count, fixed)
         self.fixed = fixed
-        if fixed:
-            _check_init(sig_stable_init_q(&self.q, step_value, n), "StabilityDetector")
-        else:
-            _check_init(sig_stable_init_f(&self.f, step_value, n), "StabilityDetector")
+        _check_init(sig_stable_init_q(&self.q, step_value, n) if fixed
+                    else sig_stable_init_f(&self.f, step_value, n), "StabilityDetector")
 
     def reset(self):
         sig_stable_reset_q(&self.q) if self.fixed else sig_stable_reset_f(&self.f)
@@ -480,7 +525,7 @@ cdef class NoiseEstimator(_Stage):
 
 
 # ---- the chain ---------------------------------------------------------------
-cdef class Chain(_Stage):
+cdef class Chain(_KalmanReadings):
     """limit -> anti-pulse -> Kalman -> stability (csrc/weigh/sig_chain.c).
 
     Parameters
@@ -518,7 +563,9 @@ cdef class Chain(_Stage):
     cdef sig_chain_q q
     cdef readonly dict params
     cdef readonly int status
-    cdef double R
+
+    def __cinit__(self, *args, **kwargs):
+        self.kalman_f, self.kalman_q = &self.f.kf, &self.q.kf
 
     def __init__(self, preset="auto", fixed=False, units_per_kg=None, **overrides):
         cdef sig_chain_params_f pf
@@ -527,24 +574,12 @@ cdef class Chain(_Stage):
         self.params = p
         self.fixed = fixed
         self.status = 0
-        self.R = p["R"]
+        self.r = p["R"]
         if fixed:
-            fp = _p.chain_fixed_params(p)
-            pq.a0 = fp["a0"]; pq.window = fp["window"]; pq.q_q30 = fp["q_q30"]
-            pq.p0_q16 = fp["p0_q16"]; pq.x0_q7 = fp["x0_q7"]; pq.seed_first = fp["seed_first"]
-            pq.stable_step_q7 = fp["stable_step_q7"]; pq.stable_count = fp["stable_count"]
-            pq.lockout_n = fp["lockout_n"]; pq.motion_band_q7 = fp["motion_band_q7"]
-            pq.motion_count = fp["motion_count"]; pq.zero_band_q7 = fp["zero_band_q7"]
-            pq.zero_rate_q7 = fp["zero_rate_q7"]; pq.noise_auto = fp["noise_auto"]
-            _check_init(sig_chain_init_q(&self.q, &pq), "Chain")
+            pq = _p.chain_fixed_params(p)       # exactly the sig_chain_params_q fields
         else:
-            pf.a0 = p["A0"]; pf.window = p["window"]; pf.q = p["Q"]; pf.r = p["R"]
-            pf.p0 = p["P0"]; pf.x0 = p["x0"]; pf.seed_first = p["seed_first"]
-            pf.stable_step = p["stable_step"]; pf.stable_count = p["stable_count"]
-            pf.lockout_n = p["lockout_n"]; pf.motion_band = p["motion_band"]
-            pf.motion_count = p["motion_count"]; pf.zero_band = p["zero_band"]
-            pf.zero_rate = p["zero_rate"]; pf.noise_auto = p["noise_auto"]
-            _check_init(sig_chain_init_f(&self.f, &pf), "Chain")
+            pf = {name.lower(): value for name, value in p.items()}     # the C fields: the names in lower case
+        _check_init(sig_chain_init_q(&self.q, &pq) if fixed else sig_chain_init_f(&self.f, &pf), "Chain")
 
     def reset(self):
         sig_chain_reset_q(&self.q) if self.fixed else sig_chain_reset_f(&self.f)
@@ -674,26 +709,6 @@ cdef class Chain(_Stage):
         return bool(self.q.stable if self.fixed else self.f.stable)
 
     @property
-    def x(self):
-        return self.q.kf.x / 128.0 if self.fixed else self.f.kf.x
-
-    @property
-    def K(self):
-        return (1073741824 - self.q.kf.y) / 1073741824.0 if self.fixed else self.f.kf.k
-
-    @property
-    def P(self):
-        if not self.fixed:
-            return self.f.kf.p
-        if self.q.kf.phase == 0:
-            return self.q.kf.p0 / 65536.0 * self.R
-        return self.K * self.R
-
-    @property
-    def innovation(self):
-        return self.q.kf.innov / 128.0 if self.fixed else self.f.kf.innov
-
-    @property
     def Dc(self):
         return float(self.q.limit.dc if self.fixed else self.f.limit.dc)
 
@@ -705,7 +720,7 @@ cdef class Chain(_Stage):
             return self.q.noise.sigma / 128.0
         if not self.fixed and self.f.noise_auto:
             return self.f.noise.sigma
-        return sqrt(self.R)
+        return sqrt(self.r)
 
     @property
     def noise_at_floor(self):
