@@ -19,8 +19,9 @@ SETTINGS = settings(max_examples=80, deadline=None)
 @st.composite
 def moving_loads(draw):
     """Levels with pours (ramps of 0.5..300 sigma per sample), bumps (a short
-    force, then the same load), glitches single and paired, noise; in codes
-    or in a small float unit; plus split points."""
+    force, then the same load), a large step (800..20000 sigma) with creep
+    and swing, glitches single and paired, noise; in codes or in a small
+    float unit; plus split points."""
     n = draw(st.integers(20, 300))
     rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
     sigma = draw(st.sampled_from([1.0, 7.0, 70.0, 1e-3]))
@@ -35,6 +36,12 @@ def moving_loads(draw):
         a = int(rng.integers(0, n - 6))
         width = int(rng.integers(1, 6))
         truth[a:a + width] += draw(st.sampled_from([8.0, 60.0, 500.0])) * sigma * np.hanning(width + 2)[1:-1]
+    if n > 120 and draw(st.booleans()):     # a large step after a settled stretch, with creep and swing
+        a = int(rng.integers(80, n - 20))
+        size = draw(st.sampled_from([800.0, 3000.0, 20000.0])) * sigma * (1 if rng.random() < 0.5 else -1)
+        t = np.arange(n - a)
+        truth[a:] += size * (1.0 + 2e-3 * (1.0 - np.exp(-t / 20.0))
+                             + 0.3 * np.exp(-t / 5.0) * np.sin(2 * np.pi * 0.15 * t))
     x = truth + rng.normal(0, sigma, n)
     for _ in range(draw(st.integers(0, 3))):                       # glitches, single or paired
         i = int(rng.integers(0, n - 1))
@@ -205,10 +212,36 @@ def test_single_and_paired_glitches_stay_rejected(fixed):
 
 
 @pytest.mark.parametrize("fixed", [False, True])
+def test_large_removal_with_creep_gives_no_false_stable(fixed):
+    """A removal of 15000 sigma with a swing (0.3 of it, 1.5 Hz, decaying in
+    0.5 s) and a creep of 0.2 % of it (30 sigma, time constant 2 s) at 10
+    samples/s; the truth is the level the creep settles to.  The first drift
+    block after so large a change is held as drifting, so `stable` waits
+    until the creep is under the noise: no false stable over 20 noise draws
+    (measured 0 float and fixed; without the held block and with the sample
+    allowed 3 sigma from the output: 4 and 1 runs), and stable again within
+    15 s (measured 7.2 s median, 10.9 s worst, float; fixed 7.3 and 10.2 s)."""
+    sigma, runs = 2.0, 0
+    t = np.arange(250) / 10.0
+    for seed in range(20):
+        truth, noise = _settled(400, sigma, seed, level=50000.0)
+        step = -15000.0 * sigma
+        truth[150:] += 1.002 * step
+        cell = truth.copy()
+        cell[150:] += -0.002 * step * np.exp(-t / 2.0) + 0.3 * abs(step) * np.exp(-t / 0.5) * np.sin(3 * np.pi * t)
+        out, stable = C.Chain(fixed=fixed).process(np.rint(cell + noise))
+        runs += _false_stable(out, stable, truth, sigma) > 0
+        assert np.any(stable[150:300])
+    assert runs == 0
+
+
+@pytest.mark.parametrize("fixed", [False, True])
 def test_step_held_as_impulses_is_never_stable(fixed):
     """A hand-placed step: the samples held as impulses before the lock-out
     accepts the level, and the window refilling after it, are not stable
-    (the old chain reported the old level as stable on them)."""
+    (the old chain reported the old level as stable on them).  Once settled,
+    the still load is stable >= 90 % of the time (measured 93 %: the trend
+    test and the sample within 2 sigma of the output are 95 % tests)."""
     sigma = 70.0
     truth, noise = _settled(300, sigma, 4, level=5000.0)
     truth[100:] += 10000.0
@@ -216,7 +249,7 @@ def test_step_held_as_impulses_is_never_stable(fixed):
     out, stable, status = C.Chain(fixed=fixed).process(x, flags=True)
     assert not np.any(stable[100:112])
     assert _false_stable(out, stable, truth, sigma) == 0
-    assert np.mean(stable[150:]) > 0.95
+    assert np.mean(stable[150:]) > 0.90
 
 
 
@@ -229,12 +262,13 @@ def test_slow_move_from_a_settled_load_drops_stable_early(fixed, slope_sigmas):
     deviations of 0) drops `stable` before the output lags 3 sigma behind.
     Over 40 noise draws at most 2 runs have a sample flagged stable more
     than 3 sigma off the load (measured 0, 0, 0, 1 runs at 0.5, 1, 1.5, 2
-    sigma per sample, float and fixed; with the CUSUM before it, allowance
-    sigma and alarm 2 sigma, 1, 2, 4, 3; with no trend test 17, 15, 16, 7).
+    sigma per sample, float and fixed, and 1 at 3 and 4; with the CUSUM
+    before it, allowance sigma and alarm 2 sigma, 1, 2, 4, 3; with no trend
+    test 17, 15, 16, 7).
     Zero is not reachable on a per-sample flag judged on noisy samples for
     every move: the first sample 3 sigma off can look 2 sigma off to any
     causal test.  On the still load before the move the flag stays up
-    (>= 90 % of it; measured 94 %)."""
+    (>= 90 % of it; measured 92 %)."""
     sigma, runs, still = 70.0, 0, []
     for seed in range(40):
         truth, noise = _settled(200, sigma, seed)
@@ -256,20 +290,24 @@ class _NoTrendTest(R.Chain):
 
 
 @pytest.mark.parametrize("fixed", [False, True])
-def test_trend_test_costs_a_still_load_what_a_95_percent_test_does(fixed):
-    """On a still load with Gaussian noise the weighted mean of sample -
-    output (weight 1/2: standard deviation sigma / sqrt(3), a little more
-    as the output has its own noise) leaves its band of 2 standard
-    deviations on about 5 % of the samples, so the trend test drops
-    `stable` on that share and no more (measured 5.2 % float and fixed over
-    20 000 samples at 70 codes of noise; the rest of the backing costs
-    0.6 %)."""
+def test_backing_costs_a_still_load_what_two_95_percent_tests_do(fixed):
+    """On a still load with Gaussian noise two tests of the backing are 95 %
+    tests and drop `stable` on about 5 % of the samples each: the sample
+    within 2 sigma of the output (one sample of evidence) and the trend test
+    (the weighted mean of sample - output, weight 1/2: standard deviation
+    sigma / sqrt(3), a little more as the output has its own noise, within 2
+    of its standard deviations).  They overlap; together with the rest of
+    the backing they cost 7.9 % (measured over 20 000 samples at 70 codes of
+    noise, float and fixed: 5.3 % without the trend test, 5.8 % with the
+    sample allowed 3 sigma, 0.6 % with neither)."""
     rng = np.random.default_rng(11)
     x = np.rint(5000.0 + 70.0 * rng.standard_normal(20000))
     with_trend = C.Chain(fixed=fixed).process(x)[1][200:].mean()
     without = _NoTrendTest(fixed=fixed).process(x)[1][200:].mean()
-    assert without >= 0.99
-    assert 0.03 <= without - with_trend <= 0.07
+    assert 0.93 <= without <= 0.97
+    assert 0.01 <= without - with_trend <= 0.05
+    assert with_trend >= 0.90
+
 
 # ---- impulses and motion told apart ------------------------------------------------
 

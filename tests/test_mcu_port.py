@@ -26,7 +26,7 @@ from pysig.errors import RangeError
 from lab.mcu import pwl_vectors, runner, tcomp16_vectors, vectors
 from lab.mcu.cost_tables import chain_mcs51_port_build
 from lab.mcu.host_port import ChainMcs51, gain_table
-from spec.chain import chain_fixed_params, chain_params
+from spec.chain import Chain as Spec, chain_fixed_params, chain_params
 from pysig.weigh import Chain
 
 PORT = ROOT / "csrc" / "port"
@@ -183,6 +183,33 @@ def test_chain_mcs51_default_chain_equals_portable_chain(case):
     np.testing.assert_array_equal(out, h_out)
     np.testing.assert_array_equal(stable, h_stable)
     np.testing.assert_array_equal(status, h_status)
+
+
+def test_chain_mcs51_default_chain_holds_the_block_after_a_large_change():
+    """a removal of 15000 sigma with swing and creep: the first drift block
+    after it counts as drifting (the spec's state shows where such a block
+    ends; the port's steady step ends blocks on the shared verdict); port
+    and portable chain agree bit for bit, stable before and after"""
+    rng = np.random.default_rng(7)
+    t = np.arange(250) / 10.0
+    step = -15000.0 * 2.0
+    x = np.full(400, 50000.0)
+    x[150:] += step * (1.0 + 0.002 * (1.0 - np.exp(-t / 2.0))) + 0.3 * abs(step) * np.exp(-t / 0.5) * np.sin(3 * np.pi * t)
+    x = np.round(x + rng.normal(0, 2.0, x.size)).astype(np.int64)
+    chain = ChainMcs51(chain_fixed_params(chain_params("auto")))
+    out, stable, status = chain.process(x.astype(np.int32))
+    h_out, h_stable, h_status = _portable("auto", None, {}, x)
+    np.testing.assert_array_equal(out, h_out)
+    np.testing.assert_array_equal(stable, h_stable)
+    np.testing.assert_array_equal(status, h_status)
+    assert stable[:150].any() and stable[150:].any()
+    spec, ends = Spec(fixed=True), []           # where a held block ends (the spec's state)
+    for i, v in enumerate(x):
+        held = spec.hold_block
+        spec.step(float(v))
+        if held and not spec.hold_block and spec.ap.count == spec.ap.n:
+            ends.append(i)
+    assert ends and all(chain.hot[i - 1] for i in ends)     # the port's fields were live there
 
 
 def test_chain_mcs51_default_chain_runs_its_steady_state_on_the_port():

@@ -74,8 +74,12 @@
  *    since the last restart, no motion run under way, no drift (the output
  *    moved by at most sigma over the last block of `window` samples, blocks
  *    counted from the first full window after a restart: a load still
- *    creeping or swinging out), the sample within
- *    3 sigma of the output (near_band), the window's trimmed mean within
+ *    creeping or swinging out; the first block is held as drifting when the
+ *    output, as the window refilled, lay more than 2^10 sigma from the last
+ *    stable output: a creep or swing of a few per mille of so large a
+ *    change still exceeds the noise when that block ends), the sample within
+ *    2 sigma of the output (near_band: a two-sided 95 % test, one sample of
+ *    evidence against the output), the window's trimmed mean within
  *    1 sigma of it (a load that has begun to move faster than the output
  *    follows) and no trend: the exponentially weighted mean (weight 1/2)
  *    of the sample's residual (sample - output, started again with the
@@ -173,14 +177,17 @@ typedef struct {
     sig_real slope, last, origin;   /* per-sample slope, last followed value, Dc before the ramp */
     sig_real pred;          /* the ramp's prediction for this sample */
     sig_real prev_x;        /* last finite sample */
-    sig_real near_band;     /* 3 sigma */
+    sig_real near_band;     /* 2 sigma */
     sig_real trend_mean;    /* the residual's weighted mean (above) */
     bool ramp, missed, paused;   /* following a ramp; its last sample held; it looked stopped */
     bool followed;          /* a sample followed since the ramp began */
     bool settled;           /* the stability detector's own verdict */
     sig_real anchor;        /* the output at the last block's start */
+    sig_real level;         /* the output at the last stable sample */
     uint8_t drift_age;      /* samples into the block */
     bool drifting;          /* the last block moved the output by more than sigma */
+    bool has_level;         /* a sample was stable since the reset */
+    bool hold_block;        /* the first block after a large change counts as drifting */
 } sig_chain_f;
 
 typedef struct {
@@ -203,8 +210,9 @@ typedef struct {
     bool trending;          /* this sample's trend verdict */
     bool ramp, missed, paused, followed, settled;
     int32_t anchor;         /* Q24.7 */
+    int32_t level;          /* Q24.7 */
     uint8_t drift_age;
-    bool drifting;
+    bool drifting, has_level, hold_block;
 } sig_chain_q;
 
 /* The weighing paper's parameters in kg: Q 1e-7, R 0.05, x0 1, P0 10, N 12, A0 2 kg

@@ -43,7 +43,7 @@
  * by shifts and adds: A0 = 6 s rounded to codes (>= 1; `none`: no
  * difference seen yet, A0 takes every sample), motion band 1.5 s,
  * stability step s / 4, zero band 2 s, zero rate s / 16 per sample, near
- * band 3 s (how far sample and output may be apart on a stable sample). */
+ * band 2 s (how far sample and output may be apart on a stable sample). */
 #define SIG_CHAIN_THRESHOLDS_Q(s, none, a0, band, step, zband, zrate, nband) do {       \
         int32_t s2_ = (s) << 1;                                                          \
         int32_t a_ = (s2_ + s2_ + s2_ + 64) >> 7;                                        \
@@ -52,7 +52,7 @@
         (step) = (s) >> 2;                                                               \
         (zband) = s2_;                                                                   \
         (zrate) = (s) >> 4;                                                              \
-        (nband) = s2_ + (s);                                                             \
+        (nband) = s2_;                                                                   \
     } while (0)
 
 #endif /* SIG_CHAIN_NOISE_H */

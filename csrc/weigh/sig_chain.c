@@ -184,6 +184,20 @@ static sig_status noise_step_f(sig_chain_f *c, sig_real x, sig_status ret)
 #define HALF_F(v) ((v) * SIG_REAL(0.5))
 #define HALF_Q(v) sig_asr32((v), 1u)
 
+/* |a - b| > band for the chain's distance tests.  The float form is one
+ * function (an inline float comparison is a library call on the 8051, and
+ * the code space of its builds is nearly full); the fixed form stays inline
+ * (its helpers are calls already, and a frame more would deepen the 8051
+ * firmware's stack). */
+#ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
+static bool apart_f(sig_real a, sig_real b, sig_real band)
+{
+    return a - b > band || b - a > band;    /* no |a - b|: the difference may overflow */
+}
+#endif /* SIG_NO_FLOAT */
+
+#define APART_Q(a, b, band) (sig_abs32_sat(sig_sat_sub32((a), (b))) > (band))   /* Q24.7, saturating */
+
 #ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 static bool ramp_before_f(sig_chain_f *c, sig_real x)
 {
@@ -239,6 +253,7 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     c->trend_mean = SIG_REAL(0.0);
     c->drift_age = 0u;
     c->drifting = true;
+    c->has_level = false;     /* level is read only once it is set; hold_block is set as the window refills */
     (void)sig_noise_reset_f(&c->noise);
     set_thresholds_f(c);
     return SIG_OK;
@@ -248,7 +263,7 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
 {
     sig_status st, ret;
     sig_real y, m, xk;
-    bool stab, ramp_ended, trending;
+    bool stab, ramp_ended, trending, refilling;
     if (!c || !out || !stable) return SIG_ERR_ARG;
     /* a ramp needs a seeded limit, so nothing changes before the error below */
     ramp_ended = c->noise_auto && ramp_before_f(c, x);
@@ -271,7 +286,7 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     }
     (void)sig_antipulse_step_f(&c->ap, y, &m);
     if (c->motion_band > SIG_REAL(0.0) && c->kf.seeded && !c->ramp
-        && sig_chain_motion(m - c->kf.x > c->motion_band || c->kf.x - m > c->motion_band,
+        && sig_chain_motion(apart_f(m, c->kf.x, c->motion_band),
                             &c->motion_run, c->motion_count)) {
         (void)sig_antipulse_reset_f(&c->ap);
         (void)sig_antipulse_step_f(&c->ap, y, &m);
@@ -279,7 +294,8 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
         ret = (sig_status)(ret | SIG_CHAIN_MOTION);
     }
     (void)sig_limit_set_ref_f(&c->limit, m);
-    if (c->noise_auto && (c->ap.count < c->ap.n || !c->settled))
+    refilling = c->ap.count < c->ap.n;          /* the window is full from here on */
+    if (c->noise_auto && (refilling || !c->settled))
         (void)sig_kalman1_reset_f(&c->kf);      /* settling: the window's trimmed mean is the estimate */
     /* m is finite (the anti-pulse mean is clamped to its window), so these
      * cannot fail; if they ever did, stop before using an unset estimate */
@@ -288,19 +304,25 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     st = sig_stable_step_f(&c->st, xk, &stab);
     if (st < 0) return st;
     c->settled = stab;
-    if (c->noise_auto && sig_chain_drift_due(c->ap.count < c->ap.n, &c->drift_age, c->ap.n, &c->drifting)) {
-        if (c->ap.count == c->ap.n)
-            c->drifting = xk - c->anchor > c->noise.sigma || c->anchor - xk > c->noise.sigma;
+    if (c->noise_auto
+        && sig_chain_drift_due(refilling,
+                               refilling && c->has_level && apart_f(xk, c->level, c->noise.sigma * SIG_REAL(1024.0)),
+                               &c->drift_age, c->ap.n, &c->drifting, &c->hold_block)) {
+        if (!refilling)
+            c->drifting = sig_chain_drift_verdict(apart_f(xk, c->anchor, c->noise.sigma), &c->hold_block);
         c->anchor = xk;
     }
     trending = c->noise_auto
-               && sig_chain_trend_f(c->ap.count < c->ap.n, y - xk, c->noise.sigma, &c->trend_mean);
+               && sig_chain_trend_f(refilling, y - xk, c->noise.sigma, &c->trend_mean);
     if (c->noise_auto && stab)
         stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, trending,
-                                y - xk <= c->near_band && xk - y <= c->near_band
-                                && m - xk <= c->noise.sigma && xk - m <= c->noise.sigma);
-    if (stab && sig_chain_offset_f(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
-        ret = (sig_status)(ret | SIG_CHAIN_TARED);
+                                !apart_f(y, xk, c->near_band) && !apart_f(m, xk, c->noise.sigma));
+    if (stab) {
+        c->level = xk;
+        c->has_level = true;
+        if (sig_chain_offset_f(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
+            ret = (sig_status)(ret | SIG_CHAIN_TARED);
+    }
     c->out = xk - c->offset;
     c->stable = stab;
     c->has_out = true;
@@ -422,6 +444,7 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     c->trending = false;
     c->drift_age = 0u;
     c->drifting = true;
+    c->has_level = false;     /* level is read only once it is set; hold_block is set as the window refills */
     (void)sig_noise_reset_q(&c->noise);
     set_thresholds_q(c);
     return SIG_OK;
@@ -454,7 +477,7 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
     (void)sig_antipulse_step_q(&c->ap, y, &m);
     m7 = codes_to_q7(m);
     if (c->motion_band > 0 && c->kf.seeded && !c->ramp
-        && sig_chain_motion(sig_abs32_sat(sig_sat_sub32(m7, c->kf.x)) > c->motion_band,
+        && sig_chain_motion(APART_Q(m7, c->kf.x, c->motion_band),
                             &c->motion_run, c->motion_count)) {
         (void)sig_antipulse_reset_q(&c->ap);
         (void)sig_antipulse_step_q(&c->ap, y, &m);
@@ -468,8 +491,13 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
     (void)sig_kalman1_step_q(&c->kf, m7, &xk);
     (void)sig_stable_step_q(&c->st, xk, &stab);
     c->settled = stab;
-    if (c->noise_auto && sig_chain_drift_due(c->ap.count < c->ap.n, &c->drift_age, c->ap.n, &c->drifting)) {
-        if (c->ap.count == c->ap.n) c->drifting = sig_abs32_sat(sig_sat_sub32(xk, c->anchor)) > c->noise.sigma;
+    if (c->noise_auto
+        && sig_chain_drift_due(c->ap.count < c->ap.n,
+                               c->ap.count < c->ap.n && c->has_level
+                               && (sig_abs32_sat(sig_sat_sub32(xk, c->level)) >> 10) > c->noise.sigma,
+                               &c->drift_age, c->ap.n, &c->drifting, &c->hold_block)) {
+        if (c->ap.count == c->ap.n)
+            c->drifting = sig_chain_drift_verdict(APART_Q(xk, c->anchor, c->noise.sigma), &c->hold_block);
         c->anchor = xk;
     }
     /* the verdict in the state, not in a local: the 8051's stack holds
@@ -479,10 +507,13 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
                                        &c->trend_mean);
     if (c->noise_auto && stab)
         stab = sig_chain_backed(ret, c->ap.count, c->ap.n, c->motion_run, c->drifting, c->trending,
-                                sig_abs32_sat(sig_sat_sub32(codes_to_q7(y), xk)) <= c->near_band
-                                && sig_abs32_sat(sig_sat_sub32(m7, xk)) <= c->noise.sigma);
-    if (stab && sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
-        ret = (sig_status)(ret | SIG_CHAIN_TARED);
+                                !APART_Q(codes_to_q7(y), xk, c->near_band) && !APART_Q(m7, xk, c->noise.sigma));
+    if (stab) {
+        c->level = xk;
+        c->has_level = true;
+        if (sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
+            ret = (sig_status)(ret | SIG_CHAIN_TARED);
+    }
     c->out = sig_sat_sub32(xk, c->offset);
     c->stable = stab;
     c->has_out = true;

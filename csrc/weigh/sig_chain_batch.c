@@ -86,8 +86,11 @@
         prev = xk; \
         s = srun >= stable_count;             /* the detector's verdict (`settled`) */ \
         if (nauto) { \
-            if (sig_chain_drift_due(held < wn, &dage, wn, &drifting)) { \
-                if (held == wn) drifting = mag(xk - anchor) > nz.sigma; \
+            if (sig_chain_drift_due(held < wn, \
+                                    held < wn && c->has_level \
+                                    && mag(xk - c->level) > nz.sigma * SIG_REAL(1024.0), \
+                                    &dage, wn, &drifting, &c->hold_block)) { \
+                if (held == wn) drifting = sig_chain_drift_verdict(mag(xk - anchor) > nz.sigma, &c->hold_block); \
                 anchor = xk; \
             } \
             trending = sig_chain_trend_f(held < wn, y - xk, nz.sigma, &tmean); \
@@ -95,7 +98,11 @@
                 s = sig_chain_backed(st, held, wn, mrun, drifting, trending, \
                                      mag(y - xk) <= nearb && mag(m - xk) <= nz.sigma); \
         } \
-        if (s) (void)sig_chain_offset_f(xk, &offset, &c->tare_pending, zband, zrate); \
+        if (s) { \
+            c->level = xk;        /* the last stable output (not hot: rarely read) */ \
+            c->has_level = true; \
+            (void)sig_chain_offset_f(xk, &offset, &c->tare_pending, zband, zrate); \
+        } \
         out[i] = xk - offset; \
         stable[i] = (uint8_t)s; \
         stab = s; \

@@ -90,18 +90,34 @@ SIG_CHAIN_STAGE sig_status sig_chain_ramp_hold(bool *on, bool *missed, bool *pau
 
 /* noise_auto: the output's drift over blocks of n samples (sig_chain.h).
  * True when the caller sets the anchor to the output: on every sample while
- * the window refills (drifting until a block is seen), and at each block's
- * end (the caller first sets `drifting` from the block's change). */
-SIG_CHAIN_STAGE bool sig_chain_drift_due(bool refilling, uint8_t *age, uint8_t n, bool *drifting)
+ * the window refills (drifting until a block is seen; `big`: the output lies
+ * more than 2^10 sigma from the last stable output, tested by the caller in
+ * its own format, and the first block is held as drifting, *hold), and at
+ * each block's end (the caller first sets `drifting` from the block's
+ * change, sig_chain_drift_verdict). */
+SIG_CHAIN_STAGE bool sig_chain_drift_due(bool refilling, bool big, uint8_t *age, uint8_t n, bool *drifting,
+                                         bool *hold)
 {
     if (refilling) {
         *age = 0u;
         *drifting = true;
+        *hold = big;
         return true;
     }
     if (++*age < n) return false;
     *age = 0u;
     return true;
+}
+
+/* noise_auto: a block's verdict: it moved the output by more than sigma, or
+ * it is the first block after a change of more than 2^10 sigma (a creep or
+ * a swing of a few per mille of so large a change still exceeds the noise
+ * when that block ends) */
+SIG_CHAIN_STAGE bool sig_chain_drift_verdict(bool moved, bool *hold)
+{
+    bool v = moved || *hold;
+    *hold = false;
+    return v;
 }
 
 /* noise_auto: the stability detector's verdict counts only when the output
@@ -200,7 +216,7 @@ SIG_CHAIN_STAGE void sig_chain_thresholds_f(sig_real s, bool none, sig_real *a0,
     *step = SIG_REAL(0.25) * s;
     *zband = SIG_REAL(2.0) * s;
     *zrate = SIG_REAL(0.0625) * s;
-    *nband = SIG_REAL(3.0) * s;
+    *nband = SIG_REAL(2.0) * s;
 }
 #endif /* SIG_NO_FLOAT */
 

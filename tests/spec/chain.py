@@ -487,6 +487,7 @@ class Chain:
         self.ramp, self.missed, self.paused, self.followed = False, False, False, False
         self.slope, self.last, self.prev_x, self.origin, self.pred = 0, 0, 0, 0, 0
         self.anchor, self.drift_age, self.drifting = 0, 0, True
+        self.level, self.has_level, self.hold_block = 0, False, False
         self.trend_mean, self.trending = 0, False
         self._set_thresholds()
 
@@ -496,7 +497,7 @@ class Chain:
             (self.limit.a0, self.motion_band, self.st.step_value, self.zero_band,
              self.zero_rate) = noise_thresholds(self.noise.sigma, self.fixed)
             s = self.noise.sigma
-            self.near_band = (s << 1) + s if self.fixed else 3.0 * s
+            self.near_band = s << 1 if self.fixed else 2.0 * s
             if self.noise.count == 0:           # no difference seen yet: take every sample
                 self.limit.a0 = 2 * CODE_MAX if self.fixed else 6.0 * NOISE_MAX_F
 
@@ -646,14 +647,24 @@ class Chain:
         """auto mode: the output's drift over blocks of `window` samples from
         the first full window after a restart; `drifting` while the last block
         moved it by more than sigma (a load still creeping or swinging out
-        slower than the stability step sees), and until one block is seen."""
+        slower than the stability step sees), and until one block is seen;
+        until two when the output, as the window refilled, lay more than
+        2^10 sigma from the last stable output (a change so large that a
+        creep or swing of a few per mille of it still exceeds the noise when
+        the first block ends)."""
         if self.ap.count < self.ap.n:
             self.anchor, self.drift_age, self.drifting = xk, 0, True
+            d = self._diff(xk, self.level)
+            if self.fixed:
+                self.hold_block = self.has_level and (min(abs(d), INT32_MAX) >> 10) > self.noise.sigma
+            else:
+                self.hold_block = self.has_level and abs(d) > self.noise.sigma * 1024.0
             return
         self.drift_age += 1
         if self.drift_age >= self.ap.n:
             d = self._diff(xk, self.anchor)
-            self.drifting = (min(abs(d), INT32_MAX) if self.fixed else abs(d)) > self.noise.sigma
+            moved = (min(abs(d), INT32_MAX) if self.fixed else abs(d)) > self.noise.sigma
+            self.drifting, self.hold_block = moved or self.hold_block, False
             self.anchor, self.drift_age = xk, 0
 
     def _trend(self, r):
@@ -680,7 +691,7 @@ class Chain:
         output is backed by the samples - none replaced, held, re-seeded or
         followed as a ramp on this sample, a full window since the last
         restart and no drift in the last block (_drift), no motion run under
-        way, the sample within 3 sigma of the output and the window's trimmed
+        way, the sample within 2 sigma of the output and the window's trimmed
         mean within 1 sigma of it (a load that has begun to move, faster than
         the output follows), and no trend (_trend)."""
         if ret & (WARN_REJECTED | LIMIT_RESEEDED | CHAIN_MOTION | CHAIN_RAMP):
@@ -742,6 +753,7 @@ class Chain:
         if self.noise_auto and stab:
             stab = self._backed(ret, y_k, m_k, xk)
         if stab:
+            self.level, self.has_level = xk, True
             if self.tare_pending:
                 self.offset_raw, self.tare_pending = xk, False
                 ret |= CHAIN_TARED

@@ -785,8 +785,9 @@ static sig_status step_auto(int32_t x)
     S.stable_run = SIG_RUN_NEXT(S.stable_run, (inc < 0 ? -inc : inc) <= S.stable_step16);
     stab = S.stable_run >= S.stable_count;
     A.settled = stab;
-    if (sig_chain_drift_due(false, &A.drift_age, S.n, &A.drifting)) {
-        A.drifting = sig_abs32_sat(sig_sat_sub32(xk, A.anchor)) > A.noise.sigma;
+    if (sig_chain_drift_due(false, false, &A.drift_age, S.n, &A.drifting, &A.hold_block)) {
+        A.drifting = sig_chain_drift_verdict(sig_abs32_sat(sig_sat_sub32(xk, A.anchor)) > A.noise.sigma,
+                                             &A.hold_block);
         A.anchor = xk;
     }
     /* the trend test runs on every sample (the window is full here) */
@@ -796,6 +797,10 @@ static sig_status step_auto(int32_t x)
         stab = sig_chain_backed(ret, S.count, S.n, motion_run, A.drifting, A.trending,
                                 sig_abs32_sat(S.base7 + (int32_t)y * 128 - xk) <= A.near_band
                                 && sig_abs32_sat(m7 - xk) <= A.noise.sigma);
+    if (stab) {
+        A.level = xk;
+        A.has_level = true;
+    }
     if (stab && sig_chain_offset_q(xk, &S.offset, &S.tare_pending, A.zero_band, A.zero_rate))
         ret = (sig_status)(ret | SIG_CHAIN_TARED);
     S.out = xk - S.offset;                /* |x|, |offset| < 2^30 */
