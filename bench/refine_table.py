@@ -29,7 +29,8 @@ import time
 from pysig.io import atomic_output
 from pysig.refine import refine
 from lab.studies.refine_study import clean_cases, injected_cases, real_cases, row
-from lab.studies.overlap_cases import grid_cases, held_out_cases, judge_case, options_for, real_like_cases
+from lab.studies.overlap_cases import (HELD_OUT, KINDS, grid_cases, held_out_cases, judge_case, options_for,
+                                      real_like_cases)
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "..", "shared", "data")
@@ -87,6 +88,10 @@ def main(argv=None):
     ap.add_argument("--real-like-seeds", type=int, default=3)
     ap.add_argument("--skip-held-out", action="store_true",
                     help="skip the overlapping-effect cases at a noise, rate, length and seeds off the grid")
+    ap.add_argument("--held-out-seeds", type=int, nargs="+", default=list(HELD_OUT["seeds"]),
+                    help="seeds of the held-out cases (the bench's are %(default)s)")
+    ap.add_argument("--held-out-kinds", nargs="+", default=list(KINDS), choices=KINDS,
+                    help="kinds of held-out case to run (all by default)")
     args = ap.parse_args(argv)
     out = {"injected": [], "clean": {}, "real": [], "overlap": [], "real_like": [], "held_out": []}
     head = ("| case | injected | refine added | impulses | robust RMS | plain RMS | RMS of 10-s reading | "
@@ -116,7 +121,7 @@ def main(argv=None):
         sets = [("real_like", real_like_cases(tuple(range(args.real_like_seeds)))),
                 ("overlap", grid_cases(tuple(range(args.overlap_seeds))))]
         if not args.skip_held_out:
-            sets.append(("held_out", held_out_cases()))
+            sets.append(("held_out", held_out_cases(tuple(args.held_out_seeds), tuple(args.held_out_kinds))))
         for key, cases in sets:
             print(ohead)
             for label, truth, data in cases:

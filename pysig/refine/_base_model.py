@@ -8,7 +8,7 @@ import numpy as np
 
 from . import _effect_models as fx
 from . import _robust as robust
-from ._cross_validation import cv_residual, rms
+from ._cross_validation import cv_residual, fewest_within_one_se, fold_mse, rms
 from ..errors import InsufficientDataError
 
 MAX_BASE_ORDER = 5
@@ -82,14 +82,17 @@ def rechoose_drift(data, model, opts):
     with the effect in (the other parameters held), then re-polish.  Knots
     chosen before a hysteresis was in were too few (the unexplained branches
     made a more flexible drift look worse out of sample); a drift with too
-    few knots leaves its settling for a warm-up to take."""
+    few knots leaves its settling for a warm-up to take.  The knots are the
+    fewest within one standard error of the best (fewest_within_one_se): a
+    nuisance drift is the simplest one the record supports, since a more
+    flexible one takes part of any slow physical effect it can imitate."""
     drift = next((e for e in model.spec.effects if e.name == "drift"), None)
     if drift is None:
         return model
     rest = model.spec.without("drift")
-    scores = {k: rms(cv_residual(data, rest.with_effect(fx.Effect("drift", k)), opts))
-              for k in fx.FAMILIES["drift"].variants}
-    knots = min(scores, key=scores.get)
+    knots = fewest_within_one_se(
+        {k: fold_mse(data, cv_residual(data, rest.with_effect(fx.Effect("drift", k)), opts), opts)
+         for k in fx.FAMILIES["drift"].variants})
     if knots == drift.variant:
         return model
     return repolish(data, rest.with_effect(fx.Effect("drift", knots)))

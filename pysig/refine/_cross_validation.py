@@ -18,6 +18,12 @@ from ..lsq import fit_linear_model
 TIE_CHI2 = float(stats.chi2.ppf(0.95, 1))
 
 
+def guard_band(data, opts):
+    """Samples left out on each side of a held-out block: `opts.gap`, else
+    a quarter of a block."""
+    return opts.gap if opts.gap is not None else max(1, data.n // (4 * opts.folds))
+
+
 def fold_rows(n, folds, gap):
     """(train, test) boolean masks of each non-empty contiguous time block."""
     return held_out_blocks(equal_count_blocks(n, folds), folds, gap=gap)
@@ -78,7 +84,7 @@ def cv_residual(data, spec, opts, candidate=None):
     fit) whose nonlinear parameter is chosen per fold on the training rows
     among Family.fold_grid).
     NaN where the sample is masked out."""
-    gap = opts.gap if opts.gap is not None else max(1, data.n // (4 * opts.folds))
+    gap = guard_band(data, opts)
     specs, params, center = [spec], [None], None
     if candidate is not None:
         fam, variant, top, center = (*candidate, None, None)[:4]
@@ -125,6 +131,36 @@ def fold_choice(sse, params, center, n_train, n_coef):
     tie = sse[i] + TIE_CHI2 * sse[i] / max(1, n_train - n_coef)
     near = [k for k, v in enumerate(sse) if v <= tie]
     return min(near, key=lambda k: abs(np.log(params[k] / center)))
+
+
+def fold_mse(data, e, opts):
+    """Mean squared out-of-sample error of each blocked fold's test block
+    (the folds cv_residual holds out), for the spread of a CV score."""
+    gap = guard_band(data, opts)
+    out = []
+    for _, test in fold_rows(data.n, opts.folds, gap):
+        v = e[test & np.isfinite(e)]
+        if v.size:
+            out.append(float(np.mean(v ** 2)))
+    return np.array(out)
+
+
+def fewest_within_one_se(fold_errors):
+    """The one-standard-error rule of CV model choice: the smallest size
+    (key of `fold_errors`, {size: each fold's mean squared error}) whose
+    mean fold error exceeds the best's by at most one standard error of
+    their difference over the folds.  The folds are the same for every size,
+    so the difference is paired: its spread is what the CV score cannot
+    tell apart (the spread of one size's fold errors is mostly how hard
+    each block is, the same for all)."""
+    best = min(fold_errors, key=lambda k: fold_errors[k].mean())
+    within = []
+    for k, errs in fold_errors.items():
+        diff = errs - fold_errors[best]
+        se = float(np.std(diff, ddof=1) / np.sqrt(diff.size)) if diff.size > 1 else 0.0
+        if diff.mean() <= se:
+            within.append(k)
+    return min(within)
 
 
 def rms(e):
