@@ -79,8 +79,9 @@ def _csv_batches(path, header, wanted, numeric, strings, block_bytes):
     convert.include_columns = wanted
     offset = 0
     try:
-        # closed here, not at interpreter exit: a streaming reader's read-ahead
-        # thread still alive at teardown can abort the process (apache/arrow#34314)
+        # closed where the batches end, not left to the garbage collector (the
+        # abort at interpreter exit, apache/arrow#34314, comes from pyarrow's
+        # thread pools and is avoided by the pysig program: pysig.cli.entry)
         with pcsv.open_csv(path, read_options=read, convert_options=convert, parse_options=parse) as reader:
             for batch in reader:
                 if batch.num_rows:
