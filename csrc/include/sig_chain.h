@@ -20,7 +20,11 @@
  *    output as the offset when stable, or at the next stable sample
  *    (pending).  Zero tracking (zero_band > 0): while stable and
  *    |x - offset| <= zero_band, the offset moves towards x by at most
- *    zero_rate per sample.
+ *    zero_rate per sample; with noise_auto also only while
+ *    |x - zero| <= zero_band, zero the set zero (the offset at the last
+ *    tare, set_offset or reset): its total correction stays within the
+ *    band, so tracking cannot carry the output away from what the samples
+ *    say (in raw codes 0 is no zero until a tare).
  *
  * Fixed form (_q; Q0 in, Q24.7 out: not the Q format of other modules' _q):
  * int32 ADC codes in (clamped to +-SIG_CODE_MAX, status
@@ -167,6 +171,7 @@ typedef struct {
     sig_stable_f st;
     sig_real motion_band, zero_band, zero_rate;
     sig_real offset;        /* tare / zero offset */
+    sig_real zero;          /* the set zero: the offset at the last tare, set_offset or reset */
     sig_real out;           /* last output */
     uint8_t motion_count, motion_run;
     bool tare_pending, stable, has_out;
@@ -197,6 +202,7 @@ typedef struct {
     sig_stable_q st;
     int32_t motion_band, zero_band, zero_rate;   /* Q24.7 */
     int32_t offset;         /* Q24.7 */
+    int32_t zero;           /* Q24.7, the set zero (as the float form's) */
     int32_t out;            /* Q24.7 */
     uint8_t motion_count, motion_run;
     bool tare_pending, stable, has_out;

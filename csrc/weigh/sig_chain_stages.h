@@ -168,18 +168,24 @@ SIG_CHAIN_STAGE bool sig_chain_trend_q(bool refilling, int32_t r, int32_t sigma,
 
 #ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* Tare and zero tracking on a stable sample xk: a pending tare takes xk as
- * the offset (returns true); otherwise, while |xk - offset| <= zband, the
- * offset moves towards xk by at most zrate (zband 0: no tracking). */
-SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, bool *tare_pending,
+ * the offset and as the set zero (returns true); otherwise, while
+ * |xk - offset| <= zband (the output at zero) and |xk - *zero| <= zband
+ * (near the set zero), the offset moves towards xk by at most zrate (zband
+ * 0: no tracking).  The offset so stays between the set zero and samples
+ * within zband of it: tracking never moves the output by more than the
+ * band from what the samples say against the last tare (OIML R76 bounds
+ * zero tracking's total range around the set zero the same way).  The
+ * fixed-threshold presets pass zero = offset: no bound on the total. */
+SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, sig_real *zero, bool *tare_pending,
                                       sig_real zband, sig_real zrate)
 {
-    sig_real dz = xk - *offset;
+    sig_real dz = xk - *offset, dr = xk - *zero;
     if (*tare_pending) {
         *tare_pending = false;
-        *offset = xk;
+        *offset = *zero = xk;
         return true;
     }
-    if (zband <= SIG_REAL(0.0) || dz > zband || -dz > zband) return false;
+    if (zband <= SIG_REAL(0.0) || dz > zband || -dz > zband || dr > zband || -dr > zband) return false;
     *offset += dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
     return false;
 }
@@ -187,16 +193,16 @@ SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, bool *tar
 
 /* no subtraction while nothing is pending and tracking is off: the 8051
  * pays a call for each saturating operation */
-SIG_CHAIN_STAGE bool sig_chain_offset_q(int32_t xk, int32_t *offset, bool *tare_pending,
+SIG_CHAIN_STAGE bool sig_chain_offset_q(int32_t xk, int32_t *offset, int32_t *zero, bool *tare_pending,
                                       int32_t zband, int32_t zrate)
 {
     int32_t dz;
     if (*tare_pending) {
         *tare_pending = false;
-        *offset = xk;
+        *offset = *zero = xk;
         return true;
     }
-    if (zband <= 0) return false;
+    if (zband <= 0 || sig_abs32_sat(sig_sat_sub32(xk, *zero)) > zband) return false;
     dz = sig_sat_sub32(xk, *offset);
     if (sig_abs32_sat(dz) > zband) return false;
     *offset = sig_sat_add32(*offset, dz > zrate ? zrate : (dz < -zrate ? -zrate : dz));
