@@ -168,14 +168,14 @@ SIG_CHAIN_STAGE bool sig_chain_trend_q(bool refilling, int32_t r, int32_t sigma,
 
 #ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* Tare and zero tracking on a stable sample xk: a pending tare takes xk as
- * the offset and as the set zero (returns true); otherwise, while
- * |xk - offset| <= zband (the output at zero) and |xk - *zero| <= zband
- * (near the set zero), the offset moves towards xk by at most zrate (zband
- * 0: no tracking).  The offset so stays between the set zero and samples
- * within zband of it: tracking never moves the output by more than the
- * band from what the samples say against the last tare (OIML R76 bounds
- * zero tracking's total range around the set zero the same way).  The
- * fixed-threshold presets pass zero = offset: no bound on the total. */
+ * the offset and as *zero (returns true); otherwise, while
+ * |xk - *zero| <= zband, the offset moves towards xk by at most zrate
+ * (zband 0: no tracking).  noise_auto passes the set zero (the offset at
+ * the last tare, set_offset or reset): the offset then stays within the
+ * band of it, so tracking's total correction is bounded (OIML R76 bounds
+ * zero tracking's range around the set zero the same way); the
+ * fixed-threshold presets pass the offset itself: a drift is followed
+ * without bound. */
 SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, sig_real *zero, bool *tare_pending,
                                       sig_real zband, sig_real zrate)
 {
@@ -185,7 +185,7 @@ SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, sig_real 
         *offset = *zero = xk;
         return true;
     }
-    if (zband <= SIG_REAL(0.0) || dz > zband || -dz > zband || dr > zband || -dr > zband) return false;
+    if (zband <= SIG_REAL(0.0) || dr > zband || -dr > zband) return false;
     *offset += dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
     return false;
 }
@@ -204,7 +204,6 @@ SIG_CHAIN_STAGE bool sig_chain_offset_q(int32_t xk, int32_t *offset, int32_t *ze
     }
     if (zband <= 0 || sig_abs32_sat(sig_sat_sub32(xk, *zero)) > zband) return false;
     dz = sig_sat_sub32(xk, *offset);
-    if (sig_abs32_sat(dz) > zband) return false;
     *offset = sig_sat_add32(*offset, dz > zrate ? zrate : (dz < -zrate ? -zrate : dz));
     return false;
 }
@@ -220,7 +219,7 @@ SIG_CHAIN_STAGE void sig_chain_thresholds_f(sig_real s, bool none, sig_real *a0,
     *a0 = SIG_REAL(6.0) * (none ? SIG_NOISE_MAX_F : s);
     *band = SIG_REAL(1.5) * s;
     *step = SIG_REAL(0.25) * s;
-    *zband = SIG_REAL(2.0) * s;
+    *zband = s;
     *zrate = SIG_REAL(0.0625) * s;
     *nband = SIG_REAL(2.0) * s;
 }

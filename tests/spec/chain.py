@@ -447,8 +447,8 @@ def noise_thresholds(sigma, fixed=False):
     int for the fixed form, a0 then in codes; float otherwise)."""
     if fixed:
         a0 = max(((sigma << 2) + (sigma << 1) + 64) >> 7, 1)
-        return a0, sigma + (sigma >> 1), sigma >> 2, sigma << 1, sigma >> 4
-    return 6.0 * sigma, 1.5 * sigma, 0.25 * sigma, 2.0 * sigma, 0.0625 * sigma
+        return a0, sigma + (sigma >> 1), sigma >> 2, sigma, sigma >> 4
+    return 6.0 * sigma, 1.5 * sigma, 0.25 * sigma, sigma, 0.0625 * sigma
 
 # ---- the chain ---------------------------------------------------------------
 class Chain:
@@ -765,11 +765,11 @@ class Chain:
                 self.tare_pending = False
                 ret |= CHAIN_TARED
             elif self.zero_band > 0:
-                # tracking at zero, and (noise_auto) within the band of the set zero: its total
-                # correction is bounded by the band
-                near_zero = not self.noise_auto or self._within(xk, self.zero_raw, self.zero_band)
+                # noise_auto: tracking around the set zero (its total correction stays within
+                # the band); the fixed-threshold presets: around the offset (a drift followed)
+                ref = self.zero_raw if self.noise_auto else self.offset_raw
                 dz = sat32(xk - self.offset_raw) if self.fixed else xk - self.offset_raw
-                if near_zero and self._within(xk, self.offset_raw, self.zero_band):
+                if self._within(xk, ref, self.zero_band):
                     dz = max(-self.zero_rate, min(self.zero_rate, dz))
                     self.offset_raw = sat32(self.offset_raw + dz) if self.fixed else self.offset_raw + dz
         self.out_raw = sat32(xk - self.offset_raw) if self.fixed else xk - self.offset_raw
