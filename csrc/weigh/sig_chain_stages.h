@@ -179,20 +179,22 @@ SIG_CHAIN_STAGE bool sig_chain_trend_q(bool refilling, int32_t r, int32_t sigma,
 SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, sig_real *zero, bool *tare_pending,
                                       sig_real zband, sig_real zrate)
 {
-    sig_real dz = xk - *offset, dr = xk - *zero;
+    sig_real dz = xk - *offset, dr;
     if (*tare_pending) {
         *tare_pending = false;
         *offset = *zero = xk;
         return true;
     }
+    dr = zero == offset ? dz : xk - *zero;      /* one soft-float subtraction less when they are one */
     if (zband <= SIG_REAL(0.0) || dr > zband || -dr > zband) return false;
     *offset += dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
     return false;
 }
 #endif /* SIG_NO_FLOAT */
 
-/* no subtraction while nothing is pending and tracking is off: the 8051
- * pays a call for each saturating operation */
+/* no subtraction while nothing is pending and tracking is off, one when
+ * zero is the offset itself: the 8051 pays a call for each saturating
+ * operation */
 SIG_CHAIN_STAGE bool sig_chain_offset_q(int32_t xk, int32_t *offset, int32_t *zero, bool *tare_pending,
                                       int32_t zband, int32_t zrate)
 {
@@ -202,8 +204,9 @@ SIG_CHAIN_STAGE bool sig_chain_offset_q(int32_t xk, int32_t *offset, int32_t *ze
         *offset = *zero = xk;
         return true;
     }
-    if (zband <= 0 || sig_abs32_sat(sig_sat_sub32(xk, *zero)) > zband) return false;
+    if (zband <= 0) return false;
     dz = sig_sat_sub32(xk, *offset);
+    if (sig_abs32_sat(zero == offset ? dz : sig_sat_sub32(xk, *zero)) > zband) return false;
     *offset = sig_sat_add32(*offset, dz > zrate ? zrate : (dz < -zrate ? -zrate : dz));
     return false;
 }
