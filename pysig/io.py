@@ -254,30 +254,40 @@ def _short_row(path, header, info):
                           f"{info.expected_columns}")
 
 
-def invalid_row_catcher():
-    """(handler, found) for ParseOptions.invalid_row_handler: the handler
-    remembers the first row with the wrong cell count and stops the parse."""
+def find_short_row(path, header, skipped, delimiter):
+    """The first row whose cell count differs from the header's (pyarrow's
+    InvalidRow: its number and cell counts), or None.  Only called after a
+    read failed, to name the row: it reads every column as text, on this
+    thread (row numbers are known single-threaded only), with a Python
+    callback, which pyarrow is given nowhere else.  A Python object held by
+    pyarrow's worker threads can be released by them while the interpreter
+    exits, and that aborts the process ("terminate called without an active
+    exception", apache/arrow#34314), so the normal reads hand pyarrow none."""
     found = []
 
-    def handler(info):
+    def stop_at_first(info):
         found.append(info)
         return "error"
-    return handler, found
+    read, convert, parse = csv_options(path, header, skipped, (), strings=header, threads=False,
+                                       delimiter=delimiter, row_handler=stop_at_first)
+    try:
+        with pcsv.open_csv(path, read_options=read, convert_options=convert, parse_options=parse) as reader:
+            for _ in reader:
+                pass
+    except pa.ArrowInvalid:
+        pass
+    return found[0] if found else None
 
 
-def _read_csv_table(path, header, skipped, delimiter, wanted, numeric, strings, threads=True):
-    handler, found = invalid_row_catcher()
-    read, convert, parse = csv_options(path, header, skipped, numeric, strings, threads=threads,
-                                       delimiter=delimiter, row_handler=handler)
+def _read_csv_table(path, header, skipped, delimiter, wanted, numeric, strings):
+    read, convert, parse = csv_options(path, header, skipped, numeric, strings, delimiter=delimiter)
     convert.include_columns = list(wanted)
     try:
         return pcsv.read_csv(path, read_options=read, convert_options=convert, parse_options=parse)
     except pa.ArrowInvalid as exc:
-        if found:
-            if found[0].number is None and threads:     # row numbers are known single-threaded only
-                return _read_csv_table(path, header, skipped, delimiter, wanted, numeric, strings,
-                                       threads=False)
-            raise _short_row(path, header, found[0]) from None
+        short = find_short_row(path, header, skipped, delimiter)
+        if short is not None:
+            raise _short_row(path, header, short) from None
         raise locate_conversion_error(path, header, skipped, delimiter, numeric, exc) from None
 
 
@@ -576,7 +586,7 @@ def write_csv(path, columns):
             if is_parquet(path):
                 pq.write_table(table, tmp)
             else:
-                with open(tmp, "wb") as fh:
+                with pa.OSFile(str(tmp), "wb") as fh:          # pyarrow's own file: no Python object in its C++
                     fh.write(csv_header_line(table.column_names))
                     pcsv.write_csv(table, fh, write_options=pcsv.WriteOptions(**CSV_WRITE_OPTIONS))
         except OSError as exc:
