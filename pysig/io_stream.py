@@ -18,8 +18,8 @@ import pyarrow.csv as pcsv
 import pyarrow.parquet as pq
 
 from .errors import InputFileError, OutputFileError
-from .io import (CSV_WRITE_OPTIONS, _csv_header, _parquet_file, _short_row, atomic_path,
-                 csv_header_line, csv_options, find_short_row, first_unconvertible, is_parquet,
+from .io import (CSV_WRITE_OPTIONS, _csv_header, _parquet_file, atomic_path,
+                 csv_header_line, csv_options, short_row_error, first_unconvertible, is_parquet,
                  not_a_number, read_header, require_columns, row_label)
 
 CSV_BLOCK_BYTES = 1 << 20        # ~60 000 rows of a two-column log per chunk (larger blocks made pyarrow hold more in flight)
@@ -85,9 +85,9 @@ def _csv_batches(path, header, wanted, numeric, strings, block_bytes):
                     yield offset, batch.select(wanted)
                     offset += batch.num_rows
     except pa.ArrowInvalid as exc:
-        short = find_short_row(path, header, skipped, delimiter)
+        short = short_row_error(path, header, skipped, delimiter)
         if short is not None:
-            raise _short_row(path, header, short) from None
+            raise short from None
         raise _stream_conversion_error(path, header, skipped, delimiter, numeric, offset, exc) from None
     if offset == 0:
         raise InputFileError(f"{path}: header only, no data rows")
