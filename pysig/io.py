@@ -29,6 +29,7 @@ __all__ = ["csv_delimiter", "MISSING_VALUES", "MISSING_TEXT", "read_csv", "read_
 import csv
 import json
 import os
+import re
 import tempfile
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -229,7 +230,7 @@ def check_finite(path, name, x, offset=0):
 
 # ---- whole tables ------------------------------------------------------------
 def csv_options(path, header, skipped, numeric, strings=(), block_size=None, threads=True,
-                delimiter=",", row_handler=None):
+                delimiter=","):
     """pyarrow CSV options (read, convert, parse): our stripped header,
     `numeric` columns as float64 with MISSING_VALUES as null (missing),
     `strings` as text, other columns inferred; the file's delimiter."""
@@ -239,45 +240,55 @@ def csv_options(path, header, skipped, numeric, strings=(), block_size=None, thr
                             **({"block_size": block_size} if block_size else {}))
     convert = pcsv.ConvertOptions(column_types=types, null_values=MISSING_VALUES, strings_can_be_null=False,
                                   quoted_strings_can_be_null=False)
-    parse = pcsv.ParseOptions(delimiter=delimiter, invalid_row_handler=row_handler)
+    parse = pcsv.ParseOptions(delimiter=delimiter)
     return read, convert, parse
 
 
-def _short_row(path, header, info):
+def _short_row(path, header, row, expected, actual):
     """InputFileError for a row whose cell count differs from the header's."""
-    where = f"row {info.number}" if info.number is not None else "a row"
-    if info.actual_columns < info.expected_columns:
-        name = header[info.actual_columns]
-        return InputFileError(f"{path}: {where}, column '{name}': not a number: '' (the row has "
-                              f"{info.actual_columns} cells, the header {info.expected_columns})")
-    return InputFileError(f"{path}: {where}: {info.actual_columns} cells, the header has "
-                          f"{info.expected_columns}")
+    if actual < expected:
+        return InputFileError(f"{path}: row {row}, column '{header[actual]}': not a number: '' (the row has "
+                              f"{actual} cells, the header {expected})")
+    return InputFileError(f"{path}: row {row}: {actual} cells, the header has {expected}")
 
 
-def invalid_row_catcher():
-    """(handler, found) for ParseOptions.invalid_row_handler: the handler
-    remembers the first row with the wrong cell count and stops the parse."""
-    found = []
-
-    def handler(info):
-        found.append(info)
-        return "error"
-    return handler, found
+# pyarrow's message for a row of the wrong length; it carries the row number
+# (counted like ours: the header is row 1) only when read on one thread
+_WRONG_CELL_COUNT = re.compile(r"Row #(\d+): Expected (\d+) columns, got (\d+)")
 
 
-def _read_csv_table(path, header, skipped, delimiter, wanted, numeric, strings, threads=True):
-    handler, found = invalid_row_catcher()
-    read, convert, parse = csv_options(path, header, skipped, numeric, strings, threads=threads,
-                                       delimiter=delimiter, row_handler=handler)
+def short_row_error(path, header, skipped, delimiter):
+    """The InputFileError naming the first row whose cell count differs from
+    the header's, or None.  Only called after a read failed: it reads every
+    column as text on one thread, so pyarrow's message says which row.
+    pyarrow's invalid-row callback would say it too, but no Python object may
+    be handed to pyarrow: its worker threads release what they hold after the
+    read returns, and one released while the interpreter exits takes the GIL
+    there and aborts the process after the work is done ("terminate called
+    without an active exception"; core dumps showed the callback released on
+    a pool thread, apache/arrow#34314)."""
+    read, convert, parse = csv_options(path, header, skipped, (), strings=header, threads=False,
+                                       delimiter=delimiter)
+    try:
+        with pcsv.open_csv(path, read_options=read, convert_options=convert, parse_options=parse) as reader:
+            for _ in reader:
+                pass
+    except pa.ArrowInvalid as exc:
+        found = _WRONG_CELL_COUNT.search(str(exc))
+        if found:
+            return _short_row(path, header, *(int(g) for g in found.groups()))
+    return None
+
+
+def _read_csv_table(path, header, skipped, delimiter, wanted, numeric, strings):
+    read, convert, parse = csv_options(path, header, skipped, numeric, strings, delimiter=delimiter)
     convert.include_columns = list(wanted)
     try:
         return pcsv.read_csv(path, read_options=read, convert_options=convert, parse_options=parse)
     except pa.ArrowInvalid as exc:
-        if found:
-            if found[0].number is None and threads:     # row numbers are known single-threaded only
-                return _read_csv_table(path, header, skipped, delimiter, wanted, numeric, strings,
-                                       threads=False)
-            raise _short_row(path, header, found[0]) from None
+        short = short_row_error(path, header, skipped, delimiter)
+        if short is not None:
+            raise short from None
         raise locate_conversion_error(path, header, skipped, delimiter, numeric, exc) from None
 
 
@@ -576,7 +587,7 @@ def write_csv(path, columns):
             if is_parquet(path):
                 pq.write_table(table, tmp)
             else:
-                with open(tmp, "wb") as fh:
+                with pa.OSFile(str(tmp), "wb") as fh:          # pyarrow's own file: no Python object in its C++
                     fh.write(csv_header_line(table.column_names))
                     pcsv.write_csv(table, fh, write_options=pcsv.WriteOptions(**CSV_WRITE_OPTIONS))
         except OSError as exc:

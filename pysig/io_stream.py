@@ -18,8 +18,8 @@ import pyarrow.csv as pcsv
 import pyarrow.parquet as pq
 
 from .errors import InputFileError, OutputFileError
-from .io import (CSV_WRITE_OPTIONS, _csv_header, _parquet_file, _short_row, atomic_path,
-                 csv_header_line, csv_options, first_unconvertible, invalid_row_catcher, is_parquet,
+from .io import (CSV_WRITE_OPTIONS, _csv_header, _parquet_file, atomic_path,
+                 csv_header_line, csv_options, short_row_error, first_unconvertible, is_parquet,
                  not_a_number, read_header, require_columns, row_label)
 
 CSV_BLOCK_BYTES = 1 << 20        # ~60 000 rows of a two-column log per chunk (larger blocks made pyarrow hold more in flight)
@@ -73,23 +73,21 @@ def _parquet_batches(path, wanted, batch_rows):
 
 def _csv_batches(path, header, wanted, numeric, strings, block_bytes):
     _, skipped, delimiter = _csv_header(path)
-    handler, found = invalid_row_catcher()
     read, convert, parse = csv_options(path, header, skipped, numeric, strings, block_size=block_bytes,
-                                       threads=False, delimiter=delimiter, row_handler=handler)
+                                       threads=False, delimiter=delimiter)
     convert.include_columns = wanted
     offset = 0
     try:
-        # closed where the batches end, not left to the garbage collector (the
-        # abort at interpreter exit, apache/arrow#34314, comes from pyarrow's
-        # thread pools and is avoided by the pysig program: pysig.cli.entry)
+        # closed where the batches end, not left to the garbage collector
         with pcsv.open_csv(path, read_options=read, convert_options=convert, parse_options=parse) as reader:
             for batch in reader:
                 if batch.num_rows:
                     yield offset, batch.select(wanted)
                     offset += batch.num_rows
     except pa.ArrowInvalid as exc:
-        if found:
-            raise _short_row(path, header, found[0]) from None
+        short = short_row_error(path, header, skipped, delimiter)
+        if short is not None:
+            raise short from None
         raise _stream_conversion_error(path, header, skipped, delimiter, numeric, offset, exc) from None
     if offset == 0:
         raise InputFileError(f"{path}: header only, no data rows")
@@ -136,7 +134,7 @@ class _Sink:
                 if is_parquet(self.path):
                     self._writer = pq.ParquetWriter(self._tmp, batch.schema)
                 else:
-                    self._fh = open(self._tmp, "wb")
+                    self._fh = pa.OSFile(str(self._tmp), "wb")     # pyarrow's own file: no Python object in its C++
                     self._fh.write(csv_header_line(batch.schema.names))
                     self._writer = pcsv.CSVWriter(self._fh, batch.schema,
                                                   write_options=pcsv.WriteOptions(**CSV_WRITE_OPTIONS))

@@ -20,7 +20,11 @@
  *    output as the offset when stable, or at the next stable sample
  *    (pending).  Zero tracking (zero_band > 0): while stable and
  *    |x - offset| <= zero_band, the offset moves towards x by at most
- *    zero_rate per sample.
+ *    zero_rate per sample.  With noise_auto the test is |x - zero| <=
+ *    zero_band instead, zero the set zero (the offset at the last tare,
+ *    set_offset or reset): tracking's total correction stays within the
+ *    band, so it cannot carry a stable output away from what the samples
+ *    say (in raw codes 0 is no zero until a tare).
  *
  * Fixed form (_q; Q0 in, Q24.7 out: not the Q format of other modules' _q):
  * int32 ADC codes in (clamped to +-SIG_CODE_MAX, status
@@ -33,7 +37,7 @@
  *    motion run under way; see SIG_CHAIN_NOISE_FROZEN_MAX), and before
  *    each sample the thresholds follow its sigma:
  *        A0 = 6 sigma, motion_band = 1.5 sigma, stable_step = sigma / 4,
- *        zero_band = 2 sigma, zero_rate = sigma / 16 per sample
+ *        zero_band = sigma, zero_rate = sigma / 16 per sample
  *    (the fixed form by shifts and adds; A0 in codes, rounded, >= 1; until
  *    the estimator has seen one difference, A0 takes every sample).  The
  *    given a0, motion_band, stable_step, zero_band, zero_rate are replaced.
@@ -167,6 +171,7 @@ typedef struct {
     sig_stable_f st;
     sig_real motion_band, zero_band, zero_rate;
     sig_real offset;        /* tare / zero offset */
+    sig_real zero;          /* the set zero: the offset at the last tare, set_offset or reset */
     sig_real out;           /* last output */
     uint8_t motion_count, motion_run;
     bool tare_pending, stable, has_out;
@@ -197,6 +202,7 @@ typedef struct {
     sig_stable_q st;
     int32_t motion_band, zero_band, zero_rate;   /* Q24.7 */
     int32_t offset;         /* Q24.7 */
+    int32_t zero;           /* Q24.7, the set zero (as the float form's) */
     int32_t out;            /* Q24.7 */
     uint8_t motion_count, motion_run;
     bool tare_pending, stable, has_out;

@@ -42,7 +42,7 @@
 /* The fixed thresholds from the measured sigma s (Q24.7, <= 2^27: 6 s fits)
  * by shifts and adds: A0 = 6 s rounded to codes (>= 1; `none`: no
  * difference seen yet, A0 takes every sample), motion band 1.5 s,
- * stability step s / 4, zero band 2 s, zero rate s / 16 per sample, near
+ * stability step s / 4, zero band s, zero rate s / 16 per sample, near
  * band 2 s (how far sample and output may be apart on a stable sample). */
 #define SIG_CHAIN_THRESHOLDS_Q(s, none, a0, band, step, zband, zrate, nband) do {       \
         int32_t s2_ = (s) << 1;                                                          \
@@ -50,7 +50,7 @@
         (a0) = (none) ? 2 * SIG_CODE_MAX : (a_ > 0 ? a_ : 1);                            \
         (band) = (s) + ((s) >> 1);                                                       \
         (step) = (s) >> 2;                                                               \
-        (zband) = s2_;                                                                   \
+        (zband) = (s);                                                                   \
         (zrate) = (s) >> 4;                                                              \
         (nband) = s2_;                                                                   \
     } while (0)

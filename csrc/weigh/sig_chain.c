@@ -239,7 +239,7 @@ sig_status sig_chain_reset_f(sig_chain_f *c)
     (void)sig_antipulse_reset_f(&c->ap);
     (void)sig_kalman1_reset_f(&c->kf);
     (void)sig_stable_reset_f(&c->st);
-    c->offset = SIG_REAL(0.0);
+    c->offset = c->zero = SIG_REAL(0.0);
     c->out = SIG_REAL(0.0);
     c->motion_run = 0u;
     c->tare_pending = false;
@@ -320,7 +320,8 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     if (stab) {
         c->level = xk;
         c->has_level = true;
-        if (sig_chain_offset_f(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
+        if (sig_chain_offset_f(xk, &c->offset, c->noise_auto ? &c->zero : &c->offset, &c->tare_pending,
+                               c->zero_band, c->zero_rate))
             ret = (sig_status)(ret | SIG_CHAIN_TARED);
     }
     c->out = xk - c->offset;
@@ -336,7 +337,7 @@ sig_status sig_chain_tare_f(sig_chain_f *c)
 {
     if (!c) return SIG_ERR_ARG;
     if (c->has_out && c->stable) {             /* stable now: the tare of a stable sample */
-        c->offset = c->kf.x;
+        c->offset = c->zero = c->kf.x;
         c->tare_pending = false;
         c->out = SIG_REAL(0.0);
         return SIG_CHAIN_TARED;
@@ -348,7 +349,7 @@ sig_status sig_chain_tare_f(sig_chain_f *c)
 sig_status sig_chain_set_offset_f(sig_chain_f *c, sig_real offset)
 {
     if (!c || !sig_real_isfinite(offset)) return SIG_ERR_ARG;
-    c->offset = offset;
+    c->offset = c->zero = offset;
     c->tare_pending = false;
     return SIG_OK;
 }
@@ -429,7 +430,7 @@ sig_status sig_chain_reset_q(sig_chain_q *c)
     (void)sig_antipulse_reset_q(&c->ap);
     (void)sig_kalman1_reset_q(&c->kf);
     (void)sig_stable_reset_q(&c->st);
-    c->offset = 0;
+    c->offset = c->zero = 0;
     c->out = 0;
     c->motion_run = 0u;
     c->tare_pending = false;
@@ -511,7 +512,8 @@ sig_status sig_chain_step_q(sig_chain_q *c, int32_t x, int32_t *out_q7, bool *st
     if (stab) {
         c->level = xk;
         c->has_level = true;
-        if (sig_chain_offset_q(xk, &c->offset, &c->tare_pending, c->zero_band, c->zero_rate))
+        if (sig_chain_offset_q(xk, &c->offset, c->noise_auto ? &c->zero : &c->offset, &c->tare_pending,
+                               c->zero_band, c->zero_rate))
             ret = (sig_status)(ret | SIG_CHAIN_TARED);
     }
     c->out = sig_sat_sub32(xk, c->offset);
@@ -527,7 +529,7 @@ sig_status sig_chain_tare_q(sig_chain_q *c)
 {
     if (!c) return SIG_ERR_ARG;
     if (c->has_out && c->stable) {             /* stable now: the tare of a stable sample */
-        c->offset = c->kf.x;
+        c->offset = c->zero = c->kf.x;
         c->tare_pending = false;
         c->out = 0;
         return SIG_CHAIN_TARED;
@@ -539,7 +541,7 @@ sig_status sig_chain_tare_q(sig_chain_q *c)
 sig_status sig_chain_set_offset_q(sig_chain_q *c, int32_t offset_q7)
 {
     if (!c) return SIG_ERR_ARG;
-    c->offset = offset_q7;
+    c->offset = c->zero = offset_q7;
     c->tare_pending = false;
     return SIG_OK;
 }

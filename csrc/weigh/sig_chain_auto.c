@@ -32,7 +32,7 @@ sig_status sig_chain_params_auto_f(sig_chain_params_f *p)
     p->lockout_n = AUTO_LOCKOUT_N;
     p->motion_band = SIG_REAL(1.5) * s;
     p->motion_count = AUTO_MOTION_COUNT;
-    p->zero_band = SIG_REAL(2.0) * s;
+    p->zero_band = s;
     p->zero_rate = SIG_REAL(0.0625) * s;
     p->noise_auto = true;
     return SIG_OK;
@@ -57,7 +57,7 @@ sig_status sig_chain_params_auto_q(sig_chain_params_q *p)
     p->lockout_n = AUTO_LOCKOUT_N;
     p->motion_band_q7 = s + (s >> 1);
     p->motion_count = AUTO_MOTION_COUNT;
-    p->zero_band_q7 = s << 1;
+    p->zero_band_q7 = s;
     p->zero_rate_q7 = s >> 4;
     p->noise_auto = true;
     return SIG_OK;

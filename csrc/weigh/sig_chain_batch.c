@@ -101,7 +101,7 @@
         if (s) { \
             c->level = xk;        /* the last stable output (not hot: rarely read) */ \
             c->has_level = true; \
-            (void)sig_chain_offset_f(xk, &offset, &c->tare_pending, zband, zrate); \
+            (void)sig_chain_offset_f(xk, &offset, nauto ? &c->zero : &offset, &c->tare_pending, zband, zrate); \
         } \
         out[i] = xk - offset; \
         stable[i] = (uint8_t)s; \

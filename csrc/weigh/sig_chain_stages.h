@@ -168,37 +168,45 @@ SIG_CHAIN_STAGE bool sig_chain_trend_q(bool refilling, int32_t r, int32_t sigma,
 
 #ifndef SIG_NO_FLOAT    /* the float form; a fixed-only build leaves it out (sig_types.h) */
 /* Tare and zero tracking on a stable sample xk: a pending tare takes xk as
- * the offset (returns true); otherwise, while |xk - offset| <= zband, the
- * offset moves towards xk by at most zrate (zband 0: no tracking). */
-SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, bool *tare_pending,
+ * the offset and as *zero (returns true); otherwise, while
+ * |xk - *zero| <= zband, the offset moves towards xk by at most zrate
+ * (zband 0: no tracking).  noise_auto passes the set zero (the offset at
+ * the last tare, set_offset or reset): the offset then stays within the
+ * band of it, so tracking's total correction is bounded (OIML R76 bounds
+ * zero tracking's range around the set zero the same way); the
+ * fixed-threshold presets pass the offset itself: a drift is followed
+ * without bound. */
+SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, sig_real *zero, bool *tare_pending,
                                       sig_real zband, sig_real zrate)
 {
-    sig_real dz = xk - *offset;
+    sig_real dz = xk - *offset, dr;
     if (*tare_pending) {
         *tare_pending = false;
-        *offset = xk;
+        *offset = *zero = xk;
         return true;
     }
-    if (zband <= SIG_REAL(0.0) || dz > zband || -dz > zband) return false;
+    dr = zero == offset ? dz : xk - *zero;      /* one soft-float subtraction less when they are one */
+    if (zband <= SIG_REAL(0.0) || dr > zband || -dr > zband) return false;
     *offset += dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
     return false;
 }
 #endif /* SIG_NO_FLOAT */
 
-/* no subtraction while nothing is pending and tracking is off: the 8051
- * pays a call for each saturating operation */
-SIG_CHAIN_STAGE bool sig_chain_offset_q(int32_t xk, int32_t *offset, bool *tare_pending,
+/* no subtraction while nothing is pending and tracking is off, one when
+ * zero is the offset itself: the 8051 pays a call for each saturating
+ * operation */
+SIG_CHAIN_STAGE bool sig_chain_offset_q(int32_t xk, int32_t *offset, int32_t *zero, bool *tare_pending,
                                       int32_t zband, int32_t zrate)
 {
     int32_t dz;
     if (*tare_pending) {
         *tare_pending = false;
-        *offset = xk;
+        *offset = *zero = xk;
         return true;
     }
     if (zband <= 0) return false;
     dz = sig_sat_sub32(xk, *offset);
-    if (sig_abs32_sat(dz) > zband) return false;
+    if (sig_abs32_sat(zero == offset ? dz : sig_sat_sub32(xk, *zero)) > zband) return false;
     *offset = sig_sat_add32(*offset, dz > zrate ? zrate : (dz < -zrate ? -zrate : dz));
     return false;
 }
@@ -214,7 +222,7 @@ SIG_CHAIN_STAGE void sig_chain_thresholds_f(sig_real s, bool none, sig_real *a0,
     *a0 = SIG_REAL(6.0) * (none ? SIG_NOISE_MAX_F : s);
     *band = SIG_REAL(1.5) * s;
     *step = SIG_REAL(0.25) * s;
-    *zband = SIG_REAL(2.0) * s;
+    *zband = s;
     *zrate = SIG_REAL(0.0625) * s;
     *nband = SIG_REAL(2.0) * s;
 }

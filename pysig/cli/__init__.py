@@ -66,13 +66,15 @@ def main(argv=None):
 
 def entry():
     """The `pysig` program: main(), its output flushed, then the process ends
-    at once with main's status.  The interpreter's teardown is skipped: with
-    pyarrow's thread pools started (every CSV read starts them) it aborts
-    the process about once in 150 runs after the work is done and its files
-    are written ("terminate called without an active exception", exit
-    -6; apache/arrow#34314), which would turn a good run, or a refused one,
-    into a crash.  Every output is closed before main returns (atomic
-    writes), so nothing is left for the teardown to do."""
+    at once with main's status.  The interpreter's teardown is skipped: a
+    native thread pool (pyarrow's) still winding down while the interpreter
+    exits can abort the process after the work is done and its files are
+    written ("terminate called without an active exception", exit -6;
+    apache/arrow#34314), which would turn a good run, or a refused one, into
+    a crash.  pysig.io already hands pyarrow no Python object on its normal
+    paths (the known trigger); this is the second guard.  Every output is
+    closed before main returns (atomic writes), so nothing is left for the
+    teardown to do."""
     status = main()
     for stream in (sys.stdout, sys.stderr):
         try:

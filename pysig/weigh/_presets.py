@@ -270,8 +270,8 @@ def noise_thresholds(sigma, fixed=False):
     codes; float otherwise)."""
     if fixed:
         a0 = max(((sigma << 2) + (sigma << 1) + 64) >> 7, 1)
-        return a0, sigma + (sigma >> 1), sigma >> 2, sigma << 1, sigma >> 4
-    return 6.0 * sigma, 1.5 * sigma, 0.25 * sigma, 2.0 * sigma, 0.0625 * sigma
+        return a0, sigma + (sigma >> 1), sigma >> 2, sigma, sigma >> 4
+    return 6.0 * sigma, 1.5 * sigma, 0.25 * sigma, sigma, 0.0625 * sigma
 
 
 # ---- parameter checks of the single stages ------------------------------------

@@ -447,8 +447,8 @@ def noise_thresholds(sigma, fixed=False):
     int for the fixed form, a0 then in codes; float otherwise)."""
     if fixed:
         a0 = max(((sigma << 2) + (sigma << 1) + 64) >> 7, 1)
-        return a0, sigma + (sigma >> 1), sigma >> 2, sigma << 1, sigma >> 4
-    return 6.0 * sigma, 1.5 * sigma, 0.25 * sigma, 2.0 * sigma, 0.0625 * sigma
+        return a0, sigma + (sigma >> 1), sigma >> 2, sigma, sigma >> 4
+    return 6.0 * sigma, 1.5 * sigma, 0.25 * sigma, sigma, 0.0625 * sigma
 
 # ---- the chain ---------------------------------------------------------------
 class Chain:
@@ -482,6 +482,7 @@ class Chain:
         for stage in (self.limit, self.ap, self.kf, self.st, self.noise):
             stage.reset()
         self.offset_raw, self.out_raw, self.motion_run = 0, 0, 0
+        self.zero_raw = 0           # the set zero: the offset at the last tare, set_offset or reset
         self.holdoff, self.frozen, self.rejected_prev = 0, 0, False
         self.tare_pending, self.stable, self.settled, self.has_out, self.status = False, False, False, False, OK
         self.ramp, self.missed, self.paused, self.followed = False, False, False, False
@@ -542,6 +543,11 @@ class Chain:
         return self.kf.xq if self.fixed else self.kf._x
 
     # ---- ramps (auto mode): a pour is a load change, not a glitch ----------------
+    def _within(self, a, b, band):
+        """|a - b| <= band (saturating in the fixed form)."""
+        d = self._diff(a, b)
+        return (min(abs(d), INT32_MAX) if self.fixed else abs(d)) <= band
+
     def _diff(self, a, b):
         return sat32(a - b) if self.fixed else a - b
 
@@ -755,11 +761,15 @@ class Chain:
         if stab:
             self.level, self.has_level = xk, True
             if self.tare_pending:
-                self.offset_raw, self.tare_pending = xk, False
+                self.offset_raw = self.zero_raw = xk
+                self.tare_pending = False
                 ret |= CHAIN_TARED
             elif self.zero_band > 0:
+                # noise_auto: tracking around the set zero (its total correction stays within
+                # the band); the fixed-threshold presets: around the offset (a drift followed)
+                ref = self.zero_raw if self.noise_auto else self.offset_raw
                 dz = sat32(xk - self.offset_raw) if self.fixed else xk - self.offset_raw
-                if (min(abs(dz), INT32_MAX) if self.fixed else abs(dz)) <= self.zero_band:
+                if self._within(xk, ref, self.zero_band):
                     dz = max(-self.zero_rate, min(self.zero_rate, dz))
                     self.offset_raw = sat32(self.offset_raw + dz) if self.fixed else self.offset_raw + dz
         self.out_raw = sat32(xk - self.offset_raw) if self.fixed else xk - self.offset_raw
@@ -794,6 +804,7 @@ class Chain:
         sample.  Returns True when applied now."""
         if self.has_out and self.stable:
             self.offset_raw, self.out_raw, self.tare_pending = self._kx(), 0, False
+            self.zero_raw = self.offset_raw
             return True
         self.tare_pending = True
         return False
@@ -801,7 +812,7 @@ class Chain:
     def set_offset(self, offset):
         _finite("offset", offset)
         self.offset_raw = _round_int32("offset", offset * 128) if self.fixed else float(offset)
-        self.tare_pending = False
+        self.zero_raw, self.tare_pending = self.offset_raw, False
 
     @property
     def offset(self):

@@ -127,6 +127,16 @@ static void end_output(sig_status st, bool ok)
 
 /* ---- the weighing stages ---------------------------------------------- */
 #define NF_WEIGH_CASES 15u
+/* sig_scale's rows run with the calibration half when the halves are built
+ * apart: the chain (float and fixed, one module) and its stages fill the
+ * 8051's 64 KB nearly alone */
+#define NF_SCALE_APPLY_CASE 5u
+#define NF_SCALE_INIT_CASE 13u
+#ifdef NF_ONLY_WEIGH
+#define SCALE_CASE(call) (nf_case++)
+#else
+#define SCALE_CASE(call) KEEP_CASE(scale, call)
+#endif
 
 #ifndef NF_ONLY_CALIB
 static sig_status setup_weigh(void)
@@ -140,7 +150,6 @@ static sig_status setup_weigh(void)
     st = (sig_status)(st | sig_stable_step_f(&stab, SIG_REAL(3.0), &flag));
     st = (sig_status)(st | sig_antipulse_init_f(&ap, 5u));
     for (i = 0u; i < 3u; i++) st = (sig_status)(st | sig_antipulse_step_f(&ap, SIG_REAL(2.0), &out1));
-    st = (sig_status)(st | sig_scale_init_f(&scale, SIG_REAL(100.0), SIG_REAL(0.01)));
     st = (sig_status)(st | sig_chain_params_paper_f(&chain_p));
     return st;
 }
@@ -158,7 +167,7 @@ static void weigh_cases(sig_real x)
     KEEP_CASE(limit, sig_limit_step_f(&limit, x, &out1));          /* fresh */
     KEEP_CASE(stab, sig_stable_step_f(&stab, x, &flag));
     KEEP_CASE(ap, sig_antipulse_step_f(&ap, x, &out1));
-    KEEP_CASE(scale, sig_scale_apply_f(&scale, x, &out1));
+    SCALE_CASE(sig_scale_apply_f(&scale, x, &out1));
     (void)sig_chain_init_f(&chain, &chain_p);
     KEEP_CASE(chain, sig_chain_step_f(&chain, x, &out1, &flag));   /* fresh */
     /* after finite samples: replaced, the output usable */
@@ -178,13 +187,23 @@ static void weigh_cases(sig_real x)
     KEEP_CASE(kf, sig_kalman1_init_f(&kf, x, SIG_REAL(1.0), SIG_REAL(10.0), SIG_REAL(0.0), true));
     KEEP_CASE(limit, sig_limit_init_f(&limit, x, 3u));
     KEEP_CASE(stab, sig_stable_init_f(&stab, x, 2u));
-    KEEP_CASE(scale, sig_scale_init_f(&scale, SIG_REAL(100.0), x));
+    SCALE_CASE(sig_scale_init_f(&scale, SIG_REAL(100.0), x));
     chain_p.q = x;
     KEEP_CASE(chain, sig_chain_init_f(&chain, &chain_p));
     (void)sig_chain_params_paper_f(&chain_p);
 }
 
 #endif /* NF_ONLY_CALIB */
+
+#ifdef NF_ONLY_CALIB
+static void scale_cases(sig_real x)
+{
+    nf_case = NF_SCALE_APPLY_CASE;
+    SCALE_CASE(sig_scale_apply_f(&scale, x, &out1));
+    nf_case = NF_SCALE_INIT_CASE;
+    SCALE_CASE(sig_scale_init_f(&scale, SIG_REAL(100.0), x));
+}
+#endif
 
 /* ---- the calibration models: compensation, tables, refine's effects ---- */
 #ifndef NF_ONLY_WEIGH
@@ -255,13 +274,17 @@ static void calib_cases(sig_real x)
 #endif /* NF_ONLY_WEIGH */
 
 /* NF_ONLY_WEIGH / NF_ONLY_CALIB: one half (the whole does not fit the
- * 8051's 64 KB of code); the other half's rows stay 0. */
+ * 8051's 64 KB of code); the other half's rows stay 0 (sig_scale's rows
+ * are the calibration half's then). */
 int main(void)
 {
     uint8_t v;
     sig_status st = SIG_OK;
 #ifndef NF_ONLY_CALIB
     st = (sig_status)(st | setup_weigh());
+#endif
+#ifndef NF_ONLY_WEIGH
+    st = (sig_status)(st | sig_scale_init_f(&scale, SIG_REAL(100.0), SIG_REAL(0.01)));
 #endif
 #ifndef NF_ONLY_WEIGH
     st = (sig_status)(st | setup_calib());
@@ -275,6 +298,7 @@ int main(void)
 #ifndef NF_ONLY_CALIB
         weigh_cases(x);
 #else
+        scale_cases(x);
         nf_case = NF_WEIGH_CASES;
 #endif
 #ifndef NF_ONLY_WEIGH

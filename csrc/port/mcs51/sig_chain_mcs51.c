@@ -344,6 +344,9 @@ sig_status sig_chain_mcs51_tare(void)
 #endif
     if (S.has_out && S.stable) {
         S.offset = S.x;
+#ifdef SIG_CHAIN_MCS51_AUTO
+        sig_chain_mcs51_auto.zero = S.x;    /* the set zero (hot: the portable struct keeps it) */
+#endif
         S.out = 0;
         S.tare_pending = false;
         update_small();
@@ -801,7 +804,7 @@ static sig_status step_auto(int32_t x)
         A.level = xk;
         A.has_level = true;
     }
-    if (stab && sig_chain_offset_q(xk, &S.offset, &S.tare_pending, A.zero_band, A.zero_rate))
+    if (stab && sig_chain_offset_q(xk, &S.offset, &A.zero, &S.tare_pending, A.zero_band, A.zero_rate))
         ret = (sig_status)(ret | SIG_CHAIN_TARED);
     S.out = xk - S.offset;                /* |x|, |offset| < 2^30 */
     S.stable = stab;
