@@ -65,16 +65,18 @@ def base_spec(data, opts):
     return fx.ModelSpec(order), order_cv
 
 
-def reselect(data, model, opts):
+def reselect(data, model, opts, polish=True):
     """After an effect is added: choose the offset order again with the
     effects in place (a lag, for one, changes which order fits), then
-    re-polish the nonlinear parameters."""
+    re-polish the nonlinear parameters (`polish`; else refit the linear
+    coefficients only)."""
     if data.T is None or model.spec.base_family != "poly" or opts.base is not None:
         return model            # a starting model given by the user keeps its size
     order, _ = choose_base_order(data, opts, model.spec.effects)
     if order == model.spec.base_order:
         return model
-    return repolish(data, fx.ModelSpec(order, model.spec.effects))
+    spec = fx.ModelSpec(order, model.spec.effects)
+    return repolish(data, spec) if polish else fx.fit(data, spec)
 
 
 def rechoose_drift(data, model, opts):

@@ -4,7 +4,11 @@ lag fitted without the drift bends to imitate it.  When the best single
 candidate fails the stopping rule, pairs of the best candidates are fitted
 jointly (both nonlinear
 parameters re-polished together) and the pair is judged by the same rule,
-its Bonferroni count including the pairs.  A pair is claimed only when
+its Bonferroni count including the pairs.  The pair has its own offset
+order, and a drift member its own knots, chosen by CV with both members in
+(those chosen without the partner bent to imitate it); a single candidate
+that failed is tried once with its own order the same way.  A pair is
+claimed only when
 each member carries a material part of its gain: the pair, that member's
 parameter chosen inside each fold, must lower the systematic error of a
 reading by the rule's relative and material margins against the pair
@@ -24,7 +28,7 @@ import numpy as np
 
 from . import _effect_models as fx
 from . import _robust as robust
-from ._base_model import repolish
+from ._base_model import rechoose_drift, repolish, reselect
 from ._cross_validation import cv_residual, rms
 from ._stopping import judge, material
 
@@ -61,10 +65,51 @@ def pair_trials(data, model, tried, opts, admissible):
                 joint = fx.fit_param(data, model.spec, fx.FAMILIES[a], va)
                 joint = fx.fit_param(data, joint.spec, fx.FAMILIES[b], vb)
                 joint = repolish(data, joint.spec)
-                if not all(admissible(fx.FAMILIES[n], joint.spec) for n in (a, b)):
-                    continue
-                e = cv_residual(data, joint.spec.without(b), opts, candidate_of(data, joint.spec, b, vb))
-                out.append((rms(e), (a, b), (va, vb), e, joint))
+                for joint in [joint] + _knots_with_partner(data, joint, a, opts):
+                    joint = reselect(data, joint, opts, polish=False)
+                    if not all(admissible(fx.FAMILIES[n], joint.spec) for n in (a, b)):
+                        continue
+                    e = cv_residual(data, joint.spec.without(b), opts, candidate_of(data, joint.spec, b, vb))
+                    knots = next(e.variant for e in joint.spec.effects if e.name == a) if a == "drift" else va
+                    out.append((rms(e), (a, b), (knots, vb), e, joint))
+    return out
+
+
+def _knots_with_partner(data, joint, member, opts):
+    """When `member` of the pair in `joint` is the drift: [the pair with the
+    drift's knots chosen again with its partner in] (_base_model.
+    rechoose_drift) if they differ, else [].  The knots best alone were
+    chosen while the drift imitated part of the partner (2 knots bending
+    to a hysteresis's branches); the pair's CV chooses between the two."""
+    if member != "drift":
+        return []
+    again = rechoose_drift(data, joint, opts)
+    return [] if again is joint else [again]
+
+
+def order_trials(data, tried, opts):
+    """The best MAX_PAIR_MEMBERS physical candidates in `tried` (cv rms,
+    name, variant, e, fitted model), each with the offset order chosen
+    again by blocked CV with it in (_base_model.reselect; its parameter
+    is still chosen inside each fold).  The current order was chosen
+    without the candidate: an order too low for the curve leaves the
+    candidate's columns to bend to it (a play operator's branches take
+    part of a curved offset) and extrapolate that into held-out blocks, so
+    a real effect scores worse than none.  Each side of the comparison
+    then has the order CV chooses for it.  Returns [(cv rms, name,
+    variant, e, model)] for the candidates whose order changes."""
+    best = {}
+    for _, name, v, _, trial in sorted(tried, key=lambda x: x[0]):
+        fam = fx.FAMILIES.get(name)
+        if fam is not None and not fam.nuisance and name not in best:
+            best[name] = (v, trial)
+    out = []
+    for name, (v, trial) in list(best.items())[:MAX_PAIR_MEMBERS]:
+        ordered = reselect(data, trial, opts, polish=False)
+        if ordered is trial:
+            continue
+        e = cv_residual(data, ordered.spec.without(name), opts, candidate_of(data, ordered.spec, name, v))
+        out.append((rms(e), name, v, e, ordered))
     return out
 
 
@@ -97,6 +142,7 @@ def redrift_trials(data, model, tried, opts, admissible):
             trial = fx.fit_param(data, base, fam, best[name])
             if sum(1 for e in trial.spec.effects if fx.FAMILIES[e.name].param_name) > 1:
                 trial = repolish(data, trial.spec)
+            trial = reselect(data, trial, opts, polish=False)
             if not admissible(fam, trial.spec):
                 continue
             e = cv_residual(data, trial.spec.without(name), opts,

@@ -3,9 +3,12 @@ add the candidate effect that most lowers the out-of-sample error
 (pysig.refine._cross_validation), repeat while the gain passes the stopping
 rule (pysig.refine._stopping), and say when structure is left that no
 candidate explains (pysig.refine._diagnostics).  When the best single
-candidate fails, pairs that each help alone are fitted and judged together
-(pysig.refine._joint); a drift in time is one of the candidates, a nuisance
-reported on its own line and never exported to the device.  A candidate whose fitted
+candidate fails, it is tried again with the offset order (and, with a
+drift in the model, the drift's knots) chosen by CV with it in, then pairs
+are fitted and judged together, the pair's order and a drift member's
+knots chosen with both in (pysig.refine._joint); a drift in time is one of
+the candidates, a nuisance reported on its own line and never exported to
+the device.  A candidate whose fitted
 time constant or width sits at the top of its search range is not tried
 (_stopping.at_search_edge).  After each step the drift's knots are chosen
 again, and an effect added earlier that no longer carries a material part
@@ -19,7 +22,7 @@ from . import _robust as robust
 from ._base_model import base_spec, rechoose_drift, repolish, reselect, screen_impulses
 from ._cross_validation import cv_residual, rms
 from ._diagnostics import candidate_relations, residual_diagnostics
-from ._joint import candidate_of, effect_shares, member_not_needed, pair_trials, redrift_trials
+from ._joint import candidate_of, effect_shares, member_not_needed, order_trials, pair_trials, redrift_trials
 from ._options import Options
 from ._result import Result, Step
 from ._shape import shape_trials
@@ -162,15 +165,20 @@ def _loop(data, used, impulses, opts):
         n_families = len({n for _, n, _, _, _ in tried})
         ok, verdict = judge(e_cv, e_new, opts, per_report, n_families)
         if not ok:
-            # the drift in the model chosen again with the newcomer in: the
-            # newcomer must carry a material part of the gain on top of the
-            # re-chosen drift alone (the knots' own gain is not its), and
-            # that is where it is measured: the drift chosen without it took
-            # over part of it, and what that drift leaves may be under the
-            # material margin however large the newcomer is
-            found = _first_passing(data, redrift_trials(data, model, tried, opts, admissible),
-                                   e_cv, opts, per_report, n_families, material_in_trial=True)
-            knots_rechosen = found is not None
+            # the offset order chosen again with the newcomer in: the order
+            # chosen without it can be too low for it to predict held-out blocks
+            found = _first_passing(data, order_trials(data, tried, opts), e_cv, opts, per_report, n_families)
+            rechosen = "offset_order_rechosen" if found is not None else None
+            if found is None:
+                # the drift in the model chosen again with the newcomer in: the
+                # newcomer must carry a material part of the gain on top of the
+                # re-chosen drift alone (the knots' own gain is not its), and
+                # that is where it is measured: the drift chosen without it took
+                # over part of it, and what that drift leaves may be under the
+                # material margin however large the newcomer is
+                found = _first_passing(data, redrift_trials(data, model, tried, opts, admissible),
+                                       e_cv, opts, per_report, n_families, material_in_trial=True)
+                rechosen = "drift_knots_rechosen" if found is not None else None
             if found is None:
                 # two overlapping effects can each fail alone and pass together
                 found = _first_passing(data, pair_trials(data, model, tried, opts, admissible),
@@ -178,8 +186,8 @@ def _loop(data, used, impulses, opts):
             if found is not None:
                 (cv_new, name, variant, e_new, trial), verdict = found
                 ok = True
-                summary += [{"effect": name, "variant": variant, "cv_rms": cv_new, "drift_knots_rechosen": True}
-                            if knots_rechosen else
+                summary += [{"effect": name, "variant": variant, "cv_rms": cv_new, rechosen: True}
+                            if rechosen else
                             {"effect": " + ".join(name), "variant": list(variant), "cv_rms": cv_new}]
         if not ok:
             rejected = [{"effect": name, "variant": variant, "cv_rms": cv_new, "cv_rms_now": cv_old,
