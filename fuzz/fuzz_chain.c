@@ -51,7 +51,7 @@ static void check_noise_f(const sig_chain_f *c)
     REQUIRE(not_nan(s) && s >= SIG_NOISE_FLOOR_ABS && s <= SIG_NOISE_MAX_F);
     REQUIRE(c->limit.a0 == SIG_REAL(6.0) * (c->noise.count == 0u ? SIG_NOISE_MAX_F : s));
     REQUIRE(c->motion_band == SIG_REAL(1.5) * s);
-    REQUIRE(c->st.step == SIG_REAL(0.25) * s && c->zero_band == SIG_REAL(2.0) * s);
+    REQUIRE(c->st.step == SIG_REAL(0.25) * s && c->zero_band == s);
     REQUIRE(c->zero_rate == SIG_REAL(0.0625) * s);
     REQUIRE(c->gate.holdoff <= c->ap.n && c->gate.frozen <= 2u * SIG_CHAIN_NOISE_FROZEN_MAX);
 }
@@ -63,7 +63,7 @@ static void check_noise_q(const sig_chain_q *c)
     REQUIRE(s >= SIG_NOISE_FLOOR_Q7 && s <= SIG_NOISE_MAX_Q7);
     REQUIRE(c->noise.count == 0u ? c->limit.a0 == 2 * SIG_CODE_MAX
             : c->limit.a0 == (((int64_t)s * 6 + 64) >> 7 > 0 ? ((int64_t)s * 6 + 64) >> 7 : 1));
-    REQUIRE(c->motion_band == s + s / 2 && c->st.step == s / 4 && c->zero_band == 2 * s && c->zero_rate == s / 16);
+    REQUIRE(c->motion_band == s + s / 2 && c->st.step == s / 4 && c->zero_band == s && c->zero_rate == s / 16);
     REQUIRE(c->gate.holdoff <= c->ap.n && c->gate.frozen <= 2u * SIG_CHAIN_NOISE_FROZEN_MAX);
     REQUIRE(!c->noise.has_prev || (c->noise.prev >= -SIG_CODE_MAX && c->noise.prev <= SIG_CODE_MAX));
 }
@@ -74,7 +74,7 @@ static void check_f(const sig_chain_f *c)
     REQUIRE(c->ap.count <= c->ap.n && c->ap.head < c->ap.n);
     REQUIRE(not_nan(c->kf.x) && not_nan(c->kf.p) && not_nan(c->kf.k));
     REQUIRE(c->kf.p >= 0 && c->kf.k >= 0 && c->kf.k <= 1);
-    REQUIRE(not_nan(c->limit.dc) && not_nan(c->offset) && not_nan(c->out));
+    REQUIRE(not_nan(c->limit.dc) && not_nan(c->offset) && not_nan(c->zero) && not_nan(c->out));
 }
 
 static void check_q(const sig_chain_q *c, int32_t x0)

@@ -3,7 +3,7 @@
 Each fuzz/fuzz_<target>.c is a libFuzzer harness.  It is built with clang
 and AddressSanitizer + UndefinedBehaviorSanitizer (no recovery: the first
 report aborts) against all of csrc/*.c in the firmware's float form, then
-run for PYSIG_FUZZ_SECONDS (default 20 s when CI is set, the time each harness must survive,
+run for PYSIG_FUZZ_SECONDS (default 15 s when CI is set, the time each harness must survive,
 kept so the whole CI run stays within its 20-minute budget;
 10 s otherwise), starting from its seed corpus fuzz/corpus/<target>/.  Each
 harness also runs for a sixth of that time (the small, fully covered targets
@@ -47,7 +47,7 @@ PROGRESS_RE = re.compile(r"^#(\d+)\s+\w+\s+cov: (\d+) ft: (\d+) corp: (\d+)/", r
 def fuzz_seconds():
     if os.environ.get("PYSIG_FUZZ_SECONDS"):
         return int(os.environ["PYSIG_FUZZ_SECONDS"])
-    return 20 if os.environ.get("CI") else 10
+    return 15 if os.environ.get("CI") else 10
 
 
 def target_name(harness):
