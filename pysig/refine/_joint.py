@@ -28,8 +28,8 @@ import numpy as np
 
 from . import _effect_models as fx
 from . import _robust as robust
-from ._base_model import rechoose_drift, repolish, reselect
-from ._cross_validation import cv_residual, rms
+from ._base_model import repolish, reselect
+from ._cross_validation import cv_residual, fewest_within_one_se, fold_mse, rms
 from ._stopping import judge, material
 
 MAX_PAIR_MEMBERS = 3       # pairs among the three best helpful candidates
@@ -61,12 +61,17 @@ def pair_trials(data, model, tried, opts, admissible):
         if fx.FAMILIES[a].param_name is not None and fx.FAMILIES[b].param_name is None:
             a, b = b, a          # the linear member first: the nonlinear one is searched on top of it
         for va in _variants(a, best[a]):
+            joints = None
             for vb in _variants(b, best[b]):
-                joint = fx.fit_param(data, model.spec, fx.FAMILIES[a], va)
-                joint = fx.fit_param(data, joint.spec, fx.FAMILIES[b], vb)
-                joint = repolish(data, joint.spec)
-                for joint in [joint] + _knots_with_partner(data, joint, a, opts):
-                    joint = reselect(data, joint, opts, polish=False)
+                if joints is None or _nonlinear(joints[0]) > 1:
+                    # with one nonlinear parameter the re-polish refits it in
+                    # every start variant: the joint fit does not depend on vb
+                    joint = fx.fit_param(data, model.spec, fx.FAMILIES[a], va)
+                    joint = fx.fit_param(data, joint.spec, fx.FAMILIES[b], vb)
+                    joint = repolish(data, joint.spec)
+                    joints = [reselect(data, j, opts, polish=False)
+                              for j in [joint] + _knots_with_partner(data, joint, a, opts)]
+                for joint in joints:
                     if not all(admissible(fx.FAMILIES[n], joint.spec) for n in (a, b)):
                         continue
                     e = cv_residual(data, joint.spec.without(b), opts, candidate_of(data, joint.spec, b, vb))
@@ -75,16 +80,31 @@ def pair_trials(data, model, tried, opts, admissible):
     return out
 
 
+def _nonlinear(model):
+    return sum(1 for e in model.spec.effects if fx.FAMILIES[e.name].param_name)
+
+
 def _knots_with_partner(data, joint, member, opts):
     """When `member` of the pair in `joint` is the drift: [the pair with the
-    drift's knots chosen again with its partner in] (_base_model.
-    rechoose_drift) if they differ, else [].  The knots best alone were
-    chosen while the drift imitated part of the partner (2 knots bending
-    to a hysteresis's branches); the pair's CV chooses between the two."""
+    drift's knots chosen again with its partner in] if they differ, else
+    [].  The partner is fitted again on each drift it is scored with
+    (re-polished, its start branch chosen again), then the knots are the
+    fewest within one standard error of the best (as _base_model.
+    rechoose_drift chooses them).  The knots best alone were chosen while
+    the drift imitated part of the partner (2 knots bending to a
+    hysteresis's branches), and the partner fitted on that drift is bent
+    the other way (a hysteresis starting on the wrong branch): held at that
+    fit, it makes the knots that fit it look best.  The pair's CV chooses
+    between the two."""
     if member != "drift":
         return []
-    again = rechoose_drift(data, joint, opts)
-    return [] if again is joint else [again]
+    current = next(e.variant for e in joint.spec.effects if e.name == "drift")
+    rest = joint.spec.without("drift")
+    fits = {k: joint if k == current else repolish(data, rest.with_effect(fx.Effect("drift", k)))
+            for k in fx.FAMILIES["drift"].variants}
+    knots = fewest_within_one_se({k: fold_mse(data, cv_residual(data, m.spec, opts), opts)
+                                  for k, m in fits.items()})
+    return [] if knots == current else [fits[knots]]
 
 
 def order_trials(data, tried, opts):
