@@ -234,7 +234,7 @@ class GainDrift(Family):
     def columns(self, data, T_used, effect):
         u = data.u_T(T_used)
         r = data.r / data.r_abs
-        cols = [r * u ** j for j in range(1, effect.variant + 1)]
+        cols = [r * p for p in powers(u, effect.variant)]
         return np.column_stack(cols), [f"r*u^{j}" for j in range(1, effect.variant + 1)]
 
 
@@ -353,7 +353,8 @@ class Nonlinearity(Family):
     def columns(self, data, T_used, effect):
         u = data.u_r()
         ks = range(2, effect.variant + 1)
-        return np.column_stack([u ** k for k in ks]), [f"u_r^{k}" for k in ks]
+        up = powers(u, max(ks))
+        return np.column_stack([up[k - 1] for k in ks]), [f"u_r^{k}" for k in ks]
 
 
 class CrossAxis(Family):
@@ -467,6 +468,16 @@ def temperature_used(data, spec):
 TABLE_PREFIX = "table:"
 
 
+def powers(u, k_max):
+    """[u, u^2, ..., u^k_max] by repeated products: a float power of an
+    array (u ** 3) costs ten times a product, and the loop builds many
+    designs."""
+    out = [u]
+    for _ in range(1, k_max):
+        out.append(out[-1] * u)
+    return out[:k_max]
+
+
 def design(data, spec):
     """Design matrix (n, p) and column names of `spec` on `data`."""
     table = spec.base_family == "table" and data.T is not None
@@ -480,10 +491,8 @@ def design(data, spec):
         cols.append(data.r / data.r_abs)
         names.append("r")
     if T_used is not None and not table:
-        u = data.u_T(T_used)
-        for k in range(1, spec.base_order + 1):
-            cols.append(u ** k)
-            names.append(f"u^{k}")
+        cols.extend(powers(data.u_T(T_used), spec.base_order))
+        names.extend(f"u^{k}" for k in range(1, spec.base_order + 1))
     for e in spec.effects:
         c, nm = FAMILIES[e.name].columns(data, T_used, e)
         for j in range(c.shape[1]):
