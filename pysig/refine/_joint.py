@@ -28,8 +28,8 @@ import numpy as np
 
 from . import _effect_models as fx
 from . import _robust as robust
-from ._base_model import repolish, reselect
-from ._cross_validation import cv_residual, fewest_within_one_se, fold_mse, rms
+from ._base_model import rechoose_drift, repolish, reselect
+from ._cross_validation import cv_residual, rms
 from ._stopping import judge, material
 
 MAX_PAIR_MEMBERS = 3       # pairs among the three best helpful candidates
@@ -86,25 +86,14 @@ def _nonlinear(model):
 
 def _knots_with_partner(data, joint, member, opts):
     """When `member` of the pair in `joint` is the drift: [the pair with the
-    drift's knots chosen again with its partner in] if they differ, else
-    [].  The partner is fitted again on each drift it is scored with
-    (re-polished, its start branch chosen again), then the knots are the
-    fewest within one standard error of the best (as _base_model.
-    rechoose_drift chooses them).  The knots best alone were chosen while
-    the drift imitated part of the partner (2 knots bending to a
-    hysteresis's branches), and the partner fitted on that drift is bent
-    the other way (a hysteresis starting on the wrong branch): held at that
-    fit, it makes the knots that fit it look best.  The pair's CV chooses
-    between the two."""
+    drift's knots chosen again with its partner in] (_base_model.
+    rechoose_drift) if they differ, else [].  The knots best alone were
+    chosen while the drift imitated part of the partner (2 knots bending
+    to a hysteresis's branches); the pair's CV chooses between the two."""
     if member != "drift":
         return []
-    current = next(e.variant for e in joint.spec.effects if e.name == "drift")
-    rest = joint.spec.without("drift")
-    fits = {k: joint if k == current else repolish(data, rest.with_effect(fx.Effect("drift", k)))
-            for k in fx.FAMILIES["drift"].variants}
-    knots = fewest_within_one_se({k: fold_mse(data, cv_residual(data, m.spec, opts), opts)
-                                  for k, m in fits.items()})
-    return [] if knots == current else [fits[knots]]
+    again = rechoose_drift(data, joint, opts)
+    return [] if again is joint else [again]
 
 
 def order_trials(data, tried, opts):
