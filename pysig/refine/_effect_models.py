@@ -174,7 +174,7 @@ class Family:
         as good as the grid step near its value: a warm-up extrapolated into
         a held-out start; a hysteresis 20 % off its width on the plain grid
         predicted a held-out block worse than none under a drift (CV RMS
-        1.13 against 1.01 at the fitted width).  The choice is still made on
+        1.12 against 1.01 at the fitted width).  The choice is still made on
         each fold's training rows (_cross_validation.fold_choice)."""
         grid = self.grid(data, top)
         if center is None or grid == [None]:
