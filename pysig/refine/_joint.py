@@ -63,7 +63,7 @@ def pair_trials(data, model, tried, opts, admissible):
         for va in _variants(a, best[a]):
             joints = None
             for vb in _variants(b, best[b]):
-                if joints is None or _nonlinear(joints[0]) > 1:
+                if joints is None or _nonlinear_count(joints[0]) > 1:
                     # with one nonlinear parameter the re-polish refits it in
                     # every start variant: the joint fit does not depend on vb
                     joint = fx.fit_param(data, model.spec, fx.FAMILIES[a], va)
@@ -80,7 +80,8 @@ def pair_trials(data, model, tried, opts, admissible):
     return out
 
 
-def _nonlinear(model):
+def _nonlinear_count(model):
+    """How many effects of `model` have a nonlinear parameter."""
     return sum(1 for e in model.spec.effects if fx.FAMILIES[e.name].param_name)
 
 
