@@ -60,11 +60,11 @@ SIG_NOISE_STAGE sig_real sig_noise_move_f(sig_real sigma, sig_real d, sig_real a
 #endif
 }
 
-/* sig_noise_step_f on a valid s */
-SIG_NOISE_STAGE sig_status sig_noise_next_f(sig_noise_f *s, sig_real x, bool update)
+/* sig_noise_step_f on a valid s and a finite x (a caller that has tested
+ * x already skips the test) */
+SIG_NOISE_STAGE void sig_noise_next_finite_f(sig_noise_f *s, sig_real x, bool update)
 {
     sig_real d, nd, change, lo;
-    if (!sig_real_isfinite(x)) return SIG_WARN_REJECTED;    /* on the bits: the same on every target */
     d = x - s->prev;                            /* may overflow to inf: counts as large */
     nd = s->prev - x;                           /* -d exactly: |d| as a max, not a branch on the sign */
     d = d > nd ? d : nd;
@@ -84,6 +84,13 @@ SIG_NOISE_STAGE sig_status sig_noise_next_f(sig_noise_f *s, sig_real x, bool upd
     if (s->sigma < lo) s->sigma = lo;
     s->prev = x;
     s->has_prev = true;
+}
+
+/* sig_noise_step_f on a valid s */
+SIG_NOISE_STAGE sig_status sig_noise_next_f(sig_noise_f *s, sig_real x, bool update)
+{
+    if (!sig_real_isfinite(x)) return SIG_WARN_REJECTED;    /* on the bits: the same on every target */
+    sig_noise_next_finite_f(s, x, update);
     return SIG_OK;
 }
 
