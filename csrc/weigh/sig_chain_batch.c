@@ -321,7 +321,7 @@ static BATCH_BODY sig_status process_f(sig_chain_f *c, const sig_real *x, size_t
     for (i = 0u; i + 1u < n; i++) {
         THRESHOLDS();
         if (nauto && fast && held == wn && mrun == 0u && srun >= stable_count && gate.holdoff == 0u
-            && !gate.rejected_prev && nz.count == 255u) {
+            && !gate.rejected_prev && nz.count == 255u && lrun == 0u && lside == 0) {
             /* noise_auto's steady state (a full, settled window, no motion
              * run, the noise gate open, the estimator warmed up): the same
              * stages without the tests for what cannot happen here, on fewer
@@ -338,10 +338,8 @@ static BATCH_BODY sig_status process_f(sig_chain_f *c, const sig_real *x, size_t
                     THRESHOLDS();
                     goto limit;
                 }
-                y = xi;
+                y = xi;                        /* accepted: the limit's run stays 0 */
                 st = SIG_OK;
-                lrun = 0u;
-                lside = 0;
                 WINDOW_FULL_PUSH();
                 WINDOW_RESUM();
                 m = (sum - mx - mn) * inv;

@@ -20,8 +20,10 @@
 
 SIG_NOISE_STAGE sig_real sig_noise_floor_f(sig_real x, sig_real res)
 {
-    sig_real f = x * SIG_NOISE_FLOOR_REL, nf = -f, q = res * SIG_REAL(0.25);
-    f = f > nf ? f : nf;                        /* |x| REL as a max: no branch on the sign */
+    sig_real nx = -x, q = res * SIG_REAL(0.25), f;
+    /* |x| REL (= |x REL|, rounding is symmetric), |x| as a max: no branch
+     * on the sign, and a caller that has |x| already shares it */
+    f = (x > nx ? x : nx) * SIG_NOISE_FLOOR_REL;
     if (q > f) f = q;
     return f > SIG_NOISE_FLOOR_ABS ? f : SIG_NOISE_FLOOR_ABS;
 }
