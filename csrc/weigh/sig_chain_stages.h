@@ -153,7 +153,7 @@ SIG_CHAIN_STAGE bool sig_chain_trend_f(bool refilling, sig_real r, sig_real sigm
     e = *mean + (r - *mean) * SIG_REAL(0.5);
     *mean = e;
     band = sigma * SIG_REAL(1.15625);
-    return (e > band) | (-e > band);            /* no branch (sig_chain_backed) */
+    return (e > -e ? e : -e) > band;            /* |e| as a max: no branch (sig_chain_backed) */
 }
 #endif /* SIG_NO_FLOAT */
 
@@ -191,7 +191,8 @@ SIG_CHAIN_STAGE bool sig_chain_offset_f(bool stable, sig_real xk, sig_real *offs
         return true;
     }
     dr = zero == offset ? dz : xk - *zero;      /* one soft-float subtraction less when they are one */
-    if (zband <= SIG_REAL(0.0) || dr > zband || -dr > zband || !stable) return false;
+    /* |dr| as a max; out of the band first: the common case, one test */
+    if ((dr > -dr ? dr : -dr) > zband || zband <= SIG_REAL(0.0) || !stable) return false;
     *offset += dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
     return false;
 }

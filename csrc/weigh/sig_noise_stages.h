@@ -70,8 +70,9 @@ SIG_NOISE_STAGE void sig_noise_next_finite_f(sig_noise_f *s, sig_real x, bool up
     d = x - s->prev;                            /* may overflow to inf: counts as large */
     nd = s->prev - x;                           /* -d exactly: |d| as a max, not a branch on the sign */
     d = d > nd ? d : nd;
-    /* the code size of a quantised signal (the rarely true test first) */
-    if ((d < s->res || s->res == SIG_REAL(0.0)) && d > SIG_REAL(0.0) && d < SIG_NOISE_MAX_F && s->has_prev)
+    /* the code size of a quantised signal (the rarely true test first;
+     * res is 0 or a d in (0, MAX): !(res > 0) is res == 0, one test) */
+    if ((d < s->res || !(s->res > SIG_REAL(0.0))) && d > SIG_REAL(0.0) && d < SIG_NOISE_MAX_F && s->has_prev)
         s->res = d;
     if (s->has_prev && update) {
         if (s->count == 0u) {
