@@ -80,8 +80,9 @@
  * the fixed point (gconv), and read back after the next restart (kn: the
  * updates since P0 while P is known to be on that course, else
  * GAINS_UNKNOWN), instead of a division on the chain from one sample's P to
- * the next. */
-#define KALMAN_UPDATE() do { \
+ * the next.  E_FINITE (a constant): the innovation is known to be finite
+ * (the steady loop: within the motion band). */
+#define KALMAN_UPDATE(E_FINITE) do { \
         if (!conv) { \
             if (kn < gfill) { \
                 kk = gains[kn]; \
@@ -105,7 +106,7 @@
             kp = pn; \
         } \
         e = m - kx; \
-        if (sig_real_isfinite(e)) kx = kx + kk * e; \
+        if (E_FINITE || sig_real_isfinite(e)) kx = kx + kk * e; \
         else kx = (SIG_REAL(1.0) - kk) * kx + kk * m; \
         xk = kx; \
     } while (0)
@@ -343,12 +344,12 @@ static BATCH_BODY sig_status process_f(sig_chain_f *c, const sig_real *x, size_t
                 WINDOW_FULL_PUSH();
                 WINDOW_RESUM();
                 m = (sum - mx - mn) * inv;
-                if (mag(m - kx) > SIG_CHAIN_BAND_F(nz.sigma)) {
+                if (!(mag(m - kx) <= SIG_CHAIN_BAND_F(nz.sigma))) {   /* NaN too: e finite below */
                     THRESHOLDS();
                     goto motion;
                 }
                 dc = m;
-                KALMAN_UPDATE();
+                KALMAN_UPDATE(true);
                 OUTPUT_STAGES(true);
                 if (i + 2u >= n || srun < stable_count) break;   /* THRESHOLDS at the loop's top */
                 i++;
@@ -426,7 +427,7 @@ motion:
             conv = false;
             c->kf.seeded = true;
         }
-        KALMAN_UPDATE();
+        KALMAN_UPDATE(false);
         OUTPUT_STAGES(false);
     }
     /* the last sample on the step path: the state completed, its status returned */
