@@ -75,19 +75,18 @@
         } \
     } while (0)
 /* Kalman: the gain update only until P reaches its fixed point.  P's
- * course from P0 is the same after every restart: the gains along it are
- * kept in gains[] as they are first computed, with the update that reached
- * the fixed point (gconv), and read back after the next restart (kn: the
- * updates since P0 while P is known to be on that course, else
- * GAINS_UNKNOWN), instead of a division on the chain from one sample's P to
- * the next.  E_FINITE (a constant): the innovation is known to be finite
- * (the steady loop: within the motion band). */
+ * course from P0 is the same after every restart: the gains along it, up to
+ * the update that reaches the fixed point (not kept: computed again, once
+ * per restart), are kept in gains[] as they are first computed and read back
+ * after the next restart (kn: the updates since P0 while P is known to be on
+ * that course, else GAINS_UNKNOWN), instead of a division on the chain from
+ * one sample's P to the next.  E_FINITE (a constant): the innovation is
+ * known to be finite (the steady loop: within the motion band). */
 #define KALMAN_UPDATE(E_FINITE) do { \
         if (!conv) { \
             if (kn < gfill) { \
                 kk = gains[kn]; \
                 pn = kr * kk; \
-                conv = kn == gconv; \
                 kn++; \
             } else { \
                 pm = kp + kq; \
@@ -95,8 +94,7 @@
                 kk = sig_real_isfinite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + kr / pm); \
                 pn = kr * kk; \
                 conv = pn == kp; \
-                if (kn == gfill && gfill < SIG_CHAIN_BATCH_GAINS) { \
-                    if (conv) gconv = gfill; \
+                if (kn == gfill && gfill < SIG_CHAIN_BATCH_GAINS && !conv) { \
                     gains[gfill++] = kk; \
                     kn++; \
                 } else { \
@@ -303,7 +301,7 @@ static BATCH_BODY sig_status process_f(sig_chain_f *c, const sig_real *x, size_t
     sig_real xi, y, d, m, m1, old, e, xk, v, pm, den, pn;
     uint8_t j, nrun;
     sig_real gains[SIG_CHAIN_BATCH_GAINS > 0u ? SIG_CHAIN_BATCH_GAINS : 1u];   /* KALMAN_UPDATE */
-    uint16_t kn, gfill = 0u, gconv = GAINS_UNKNOWN;
+    uint16_t kn, gfill = 0u;
     /* parameters, in locals: the stores to the window and to out[] could
      * otherwise alias them and force a reload every sample (with noise_auto
      * the thresholds follow sigma: THRESHOLDS) */
