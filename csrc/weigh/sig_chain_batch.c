@@ -84,7 +84,7 @@
  * known to be finite (the steady loop: within the motion band). */
 #define KALMAN_UPDATE(E_FINITE) do { \
         if (!conv) { \
-            if (kn < gfill) { \
+            if (nauto && kn < gfill) {         /* (the other form restarts only on the step path) */ \
                 kk = gains[kn]; \
                 pn = kr * kk; \
                 kn++; \
@@ -94,7 +94,7 @@
                 kk = sig_real_isfinite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + kr / pm); \
                 pn = kr * kk; \
                 conv = pn == kp; \
-                if (kn == gfill && gfill < SIG_CHAIN_BATCH_GAINS && !conv) { \
+                if (nauto && kn == gfill && gfill < SIG_CHAIN_BATCH_GAINS && !conv) { \
                     gains[gfill++] = kk; \
                     kn++; \
                 } else { \
@@ -138,12 +138,17 @@
                                      (int)(mag(y - xk) <= TH(STEADY, nearb, SIG_CHAIN_NEAR_F(nz.sigma))) \
                                      & (int)(mag(m - xk) <= nz.sigma));   /* no branch (sig_chain_backed) */ \
         } \
-        /* no branch on `s` either: the last stable output kept by a select */ \
-        level = s ? xk : level; \
-        has_level = has_level || s; \
-        (void)sig_chain_offset_f(s, xk, &offset, nauto ? &zero : &offset, &tare_pending, \
-                                 TH(STEADY, zband, SIG_CHAIN_ZBAND_F(nz.sigma)), \
-                                 TH(STEADY, zrate, SIG_CHAIN_ZRATE_F(nz.sigma))); \
+        if (nauto) {          /* no branch on `s` either: the last stable output kept by a select */ \
+            level = s ? xk : level; \
+            has_level = has_level || s; \
+            (void)sig_chain_offset_f(s, xk, &offset, &zero, &tare_pending, \
+                                     TH(STEADY, zband, SIG_CHAIN_ZBAND_F(nz.sigma)), \
+                                     TH(STEADY, zrate, SIG_CHAIN_ZRATE_F(nz.sigma))); \
+        } else if (s) {       /* fixed thresholds: `s` seldom flips, a branch costs less */ \
+            level = xk; \
+            has_level = true; \
+            (void)sig_chain_offset_f(true, xk, &offset, &offset, &tare_pending, zband, zrate); \
+        } \
         out[i] = xk - offset; \
         stable[i] = (uint8_t)s; \
         stab = s; \
