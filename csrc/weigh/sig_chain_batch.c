@@ -29,6 +29,11 @@
 #define SIG_CHAIN_BATCH_GAINS 256u
 #endif
 #define GAINS_UNKNOWN UINT16_C(0xFFFF)     /* above any index of gains[] */
+#if SIG_CHAIN_BATCH_GAINS > 0
+#define GAINS_ROOM(fill) ((fill) < SIG_CHAIN_BATCH_GAINS)
+#else
+#define GAINS_ROOM(fill) false             /* (a test against 0 warns: always false) */
+#endif
 
 /* gcc's basic-block vectoriser (on at -O2 since gcc 12) packs pairs of the
  * loop's scalars (the window's extremes, the thresholds, ...) into
@@ -94,7 +99,7 @@
                 kk = sig_real_isfinite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + kr / pm); \
                 pn = kr * kk; \
                 conv = pn == kp; \
-                if (nauto && kn == gfill && gfill < SIG_CHAIN_BATCH_GAINS && !conv) { \
+                if (nauto && kn == gfill && GAINS_ROOM(gfill) && !conv) { \
                     gains[gfill++] = kk; \
                     kn++; \
                 } else { \
@@ -483,6 +488,7 @@ sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_
 #undef BATCH_AVX
 #undef THRESHOLDS
 #undef GAINS_UNKNOWN
+#undef GAINS_ROOM
 #undef TH
 #undef WINDOW_FULL_PUSH
 #undef WINDOW_RESUM
