@@ -320,10 +320,10 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     if (stab) {
         c->level = xk;
         c->has_level = true;
+        if (sig_chain_offset_f(true, xk, &c->offset, c->noise_auto ? &c->zero : &c->offset, &c->tare_pending,
+                               c->zero_band, c->zero_rate))
+            ret = (sig_status)(ret | SIG_CHAIN_TARED);
     }
-    if (sig_chain_offset_f(stab, xk, &c->offset, c->noise_auto ? &c->zero : &c->offset, &c->tare_pending,
-                           c->zero_band, c->zero_rate))
-        ret = (sig_status)(ret | SIG_CHAIN_TARED);
     c->out = xk - c->offset;
     c->stable = stab;
     c->has_out = true;

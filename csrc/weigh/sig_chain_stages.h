@@ -153,7 +153,11 @@ SIG_CHAIN_STAGE bool sig_chain_trend_f(bool refilling, sig_real r, sig_real sigm
     e = *mean + (r - *mean) * SIG_REAL(0.5);
     *mean = e;
     band = sigma * SIG_REAL(1.15625);
-    return (e > -e ? e : -e) > band;            /* |e| as a max: no branch (sig_chain_backed) */
+#ifdef SIG_REAL_DOUBLE
+    return (e > -e ? e : -e) > band;            /* host: |e| as a max, no branch (sig_chain_backed) */
+#else
+    return e > band || -e > band;               /* float in software (MCUs): fewer operations */
+#endif
 }
 #endif /* SIG_NO_FLOAT */
 
@@ -191,8 +195,13 @@ SIG_CHAIN_STAGE bool sig_chain_offset_f(bool stable, sig_real xk, sig_real *offs
         return true;
     }
     dr = zero == offset ? dz : xk - *zero;      /* one soft-float subtraction less when they are one */
-    /* |dr| as a max; out of the band first: the common case, one test */
+    /* out of the band first (the common case); on the host |dr| as a max, one
+     * test; a float in software (MCUs) pays per operation: two tests */
+#ifdef SIG_REAL_DOUBLE
     if ((dr > -dr ? dr : -dr) > zband || zband <= SIG_REAL(0.0) || !stable) return false;
+#else
+    if (dr > zband || -dr > zband || zband <= SIG_REAL(0.0) || !stable) return false;
+#endif
     *offset += dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
     return false;
 }
