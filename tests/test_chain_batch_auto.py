@@ -121,3 +121,67 @@ def test_auto_batch_steady_state_loop_equals_the_step_loop(sig, tare):
     that trips) give the step loop's bits: outputs, flags, status, state."""
     x, cuts = sig
     assert_batch_is_the_step_loop(x, cuts, tare, {})
+
+
+def assert_same_bits(x, cuts, kw):
+    """Batch and step loop on x split at cuts: the outputs' bits (a -0.0
+    where the step loop gives +0.0 is a difference here), flags, state."""
+    stepped, batch = Chain(**kw), Chain(**kw)
+    for part in split(x, cuts):
+        o1, s1, st1 = stepped.process(part, flags=True)
+        o2, s2 = batch.process(part)
+        np.testing.assert_array_equal(o1.view(np.int64), o2.view(np.int64))
+        np.testing.assert_array_equal(s1, s2)
+        if len(part):
+            assert batch.status == st1[-1]
+        assert _state(batch) == pytest.approx(_state(stepped), rel=0, abs=0, nan_ok=True)
+
+
+@st.composite
+def tied_signals(draw):
+    """Samples on a coarse grid (a few codes, so a full window holds its
+    extremes several times over), +0.0 and -0.0 among them, any window:
+    the batch path finds a full window's extremes its own way when one
+    leaves, and must give the step loop's bits, a zero's sign included."""
+    n = draw(st.integers(300, 3000))
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    grid = draw(st.sampled_from([[-1.0, -0.0, 0.0, 1.0], [-0.0, 0.0], [0.0, 1.0, 2.0], [-0.0, -1.0, -2.0],
+                                 [3.0, 4.0, 5.0]]))
+    x = rng.choice(grid, n)
+    for _ in range(draw(st.integers(0, 2))):                     # steps, glitches
+        x[int(rng.integers(0, n)):] += draw(st.sampled_from([0.0, 40.0]))
+        x[int(rng.integers(0, n))] = draw(st.sampled_from([-1e3, 4e4]))
+    kw = {}
+    if draw(st.booleans()):
+        kw.update(window=draw(st.integers(3, 32)), stable_count=draw(st.integers(1, 6)))
+    return x, sorted(draw(st.lists(st.integers(0, n), max_size=3))), kw
+
+
+@settings(max_examples=80, deadline=None)
+@given(tied_signals())
+def test_auto_batch_window_extremes_with_ties_and_signed_zeros(sig):
+    x, cuts, kw = sig
+    assert_same_bits(x, cuts, kw)
+
+
+@st.composite
+def long_plateaus(draw):
+    """Plateaus of 300..1500 samples (longer than the gains the batch path
+    keeps, and than P's way from P0 to its fixed point, 548 updates for the
+    default's Q/R) with steps between them (each a Kalman restart: the kept
+    gains read back), any Q/R and P0 the default allows; split points."""
+    rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
+    parts = [np.full(draw(st.integers(300, 1500)), draw(st.sampled_from([0.0, 500.0, -300.0, 2e4])))
+             for _ in range(draw(st.integers(1, 4)))]
+    x = np.concatenate(parts)
+    x = x + rng.normal(0, draw(st.sampled_from([0.5, 1.0, 70.0])), x.size)
+    x = np.round(x) if draw(st.booleans()) else x
+    kw = {"Q": draw(st.sampled_from([1e-3, 1e-2, 1e-4, 0.0]))} if draw(st.booleans()) else {}
+    return x, sorted(draw(st.lists(st.integers(0, x.size), max_size=3))), kw
+
+
+@settings(max_examples=40, deadline=None)
+@given(long_plateaus())
+def test_auto_batch_kalman_gains_kept_across_restarts(sig):
+    x, cuts, kw = sig
+    assert_same_bits(x, cuts, kw)

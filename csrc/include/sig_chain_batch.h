@@ -21,7 +21,13 @@
  * blocks, the backing of `stable`, the noise estimate and the thresholds
  * that follow it too; a ramp and a second rejection on one side, where a
  * ramp may start, are not the steady state);
- * every other sample, and the last one, goes through sig_chain_step_f. */
+ * every other sample, and the last one, goes through sig_chain_step_f.
+ * Stack: besides the locals, the Kalman gains it keeps along P's course after
+ * a restart, SIG_CHAIN_BATCH_GAINS of them (default 256: 2 KB as double, 1 KB
+ * as float; a firmware short of stack defines it lower, 0 keeps none).  On
+ * x86-64 with gcc or clang the loop is also compiled for AVX and chosen at
+ * run time (the same operations in a shorter encoding, no FMA: the same
+ * bits); SIG_CHAIN_BATCH_NO_AVX leaves that copy out. */
 sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_real *out, uint8_t *stable);
 
 /* n codes -> out_q7, stable (0/1), as n calls of sig_chain_step_q; returns

@@ -320,7 +320,7 @@ sig_status sig_chain_step_f(sig_chain_f *c, sig_real x, sig_real *out, bool *sta
     if (stab) {
         c->level = xk;
         c->has_level = true;
-        if (sig_chain_offset_f(xk, &c->offset, c->noise_auto ? &c->zero : &c->offset, &c->tare_pending,
+        if (sig_chain_offset_f(true, xk, &c->offset, c->noise_auto ? &c->zero : &c->offset, &c->tare_pending,
                                c->zero_band, c->zero_rate))
             ret = (sig_status)(ret | SIG_CHAIN_TARED);
     }

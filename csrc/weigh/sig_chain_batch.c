@@ -21,6 +21,20 @@
 #define FAST_MAX SIG_REAL(1e36)
 #endif
 
+/* How many of the Kalman gains after a restart the batch path keeps (on its
+ * stack: 8 bytes each as double, 4 as float); beyond them it computes each
+ * gain again until P reaches its fixed point.  A firmware short of stack
+ * may set it lower (0 keeps none). */
+#ifndef SIG_CHAIN_BATCH_GAINS
+#define SIG_CHAIN_BATCH_GAINS 256u
+#endif
+#define GAINS_UNKNOWN UINT16_C(0xFFFF)     /* above any index of gains[] */
+#if SIG_CHAIN_BATCH_GAINS > 0
+#define GAINS_ROOM(fill) ((fill) < SIG_CHAIN_BATCH_GAINS)
+#else
+#define GAINS_ROOM(fill) false             /* (a test against 0 warns: always false) */
+#endif
+
 /* gcc's basic-block vectoriser (on at -O2 since gcc 12) packs pairs of the
  * loop's scalars (the window's extremes, the thresholds, ...) into
  * vectors and pays for it in shuffles: about a tenth more instructions per
@@ -40,11 +54,17 @@
         head++; \
         if (head >= held) head = 0u; \
         if (old >= mx || old <= mn) {          /* == (old lies within): a test without NaN's case */ \
-            mx = mn = c->ap.buf[0]; \
-            for (j = 1u; j < held; j++) { \
-                v = c->ap.buf[j]; \
-                mx = v > mx ? v : mx; \
-                mn = v < mn ? v : mn; \
+            if (old >= mx) mx = window_max(c->ap.buf, held); \
+            else mx = y > mx ? y : mx; \
+            if (old <= mn) mn = window_min(c->ap.buf, held); \
+            else mn = y < mn ? y : mn; \
+            if (mx == SIG_REAL(0.0) || mn == SIG_REAL(0.0)) {   /* +0 or -0: storage order decides */ \
+                mx = mn = c->ap.buf[0]; \
+                for (j = 1u; j < held; j++) { \
+                    v = c->ap.buf[j]; \
+                    mx = v > mx ? v : mx; \
+                    mn = v < mn ? v : mn; \
+                } \
             } \
         } else { \
             mx = y > mx ? y : mx; \
@@ -59,26 +79,49 @@
             for (j = 1u; j < held; j++) sum += c->ap.buf[j]; \
         } \
     } while (0)
-/* Kalman: the gain update only until P reaches its fixed point */
-#define KALMAN_UPDATE() do { \
+/* Kalman: the gain update only until P reaches its fixed point.  P's
+ * course from P0 is the same after every restart: the gains along it, up to
+ * the update that reaches the fixed point (not kept: computed again, once
+ * per restart), are kept in gains[] as they are first computed and read back
+ * after the next restart (kn: the updates since P0 while P is known to be on
+ * that course, else GAINS_UNKNOWN), instead of a division on the chain from
+ * one sample's P to the next.  E_FINITE (a constant): the innovation is
+ * known to be finite (the steady loop: within the motion band). */
+#define KALMAN_UPDATE(E_FINITE) do { \
         if (!conv) { \
-            pm = kp + kq; \
-            den = pm + kr; \
-            kk = sig_real_isfinite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + kr / pm); \
-            pn = kr * kk; \
-            conv = pn == kp; \
+            if (nauto && kn < gfill) {         /* (the other form restarts only on the step path) */ \
+                kk = gains[kn]; \
+                pn = kr * kk; \
+                kn++; \
+            } else { \
+                pm = kp + kq; \
+                den = pm + kr; \
+                kk = sig_real_isfinite(den) ? pm / den : SIG_REAL(1.0) / (SIG_REAL(1.0) + kr / pm); \
+                pn = kr * kk; \
+                conv = pn == kp; \
+                if (nauto && kn == gfill && GAINS_ROOM(gfill) && !conv) { \
+                    gains[gfill++] = kk; \
+                    kn++; \
+                } else { \
+                    kn = GAINS_UNKNOWN; \
+                } \
+            } \
             kp = pn; \
         } \
         e = m - kx; \
-        if (sig_real_isfinite(e)) kx = kx + kk * e; \
+        if (E_FINITE || sig_real_isfinite(e)) kx = kx + kk * e; \
         else kx = (SIG_REAL(1.0) - kk) * kx + kk * m; \
         xk = kx; \
     } while (0)
 /* stability, (noise_auto) drift blocks, the trend and the backing of
  * `stable`, tare and zero tracking, the outputs, (noise_auto) the noise
- * estimate */
-#define OUTPUT_STAGES() do { \
-        if (mag(xk - prev) <= step) { \
+ * estimate.  STEADY (a constant): noise_auto's steady loop, where the
+ * sample was accepted (finite, SIG_OK), the window is full, no motion run
+ * is under way and the noise gate is open (its state stays so: every
+ * sample updates the estimate); said outright, the tests for the other
+ * cases fold away. */
+#define OUTPUT_STAGES(STEADY) do { \
+        if (mag(xk - prev) <= TH(STEADY, step, SIG_CHAIN_STEP_F(nz.sigma))) { \
             if (srun < 255u) srun++; \
         } else { \
             srun = 0u; \
@@ -87,35 +130,90 @@
         s = srun >= stable_count;             /* the detector's verdict (`settled`) */ \
         if (nauto) { \
             if (sig_chain_drift_due(held < wn, \
-                                    held < wn && c->has_level \
-                                    && mag(xk - c->level) > nz.sigma * SIG_REAL(1024.0), \
+                                    held < wn && has_level \
+                                    && mag(xk - level) > nz.sigma * SIG_REAL(1024.0), \
                                     &dage, wn, &drifting, &c->hold_block)) { \
                 if (held == wn) drifting = sig_chain_drift_verdict(mag(xk - anchor) > nz.sigma, &c->hold_block); \
                 anchor = xk; \
             } \
             trending = sig_chain_trend_f(held < wn, y - xk, nz.sigma, &tmean); \
             if (s) \
-                s = sig_chain_backed(st, held, wn, mrun, drifting, trending, \
-                                     mag(y - xk) <= nearb && mag(m - xk) <= nz.sigma); \
+                s = sig_chain_backed(STEADY ? SIG_OK : st, STEADY ? wn : held, wn, STEADY ? 0u : mrun, \
+                                     drifting, trending, \
+                                     (int)(mag(y - xk) <= TH(STEADY, nearb, SIG_CHAIN_NEAR_F(nz.sigma))) \
+                                     & (int)(mag(m - xk) <= nz.sigma));   /* no branch (sig_chain_backed) */ \
         } \
-        if (s) { \
-            c->level = xk;        /* the last stable output (not hot: rarely read) */ \
-            c->has_level = true; \
-            (void)sig_chain_offset_f(xk, &offset, nauto ? &c->zero : &offset, &c->tare_pending, zband, zrate); \
+        if (nauto) {          /* no branch on `s` either: the last stable output kept by a select */ \
+            level = s ? xk : level; \
+            has_level = has_level || s; \
+            (void)sig_chain_offset_f(s, xk, &offset, &zero, &tare_pending, \
+                                     TH(STEADY, zband, SIG_CHAIN_ZBAND_F(nz.sigma)), \
+                                     TH(STEADY, zrate, SIG_CHAIN_ZRATE_F(nz.sigma))); \
+        } else if (s) {       /* fixed thresholds: `s` seldom flips, a branch costs less */ \
+            level = xk; \
+            has_level = true; \
+            (void)sig_chain_offset_f(true, xk, &offset, &offset, &tare_pending, zband, zrate); \
         } \
         out[i] = xk - offset; \
         stable[i] = (uint8_t)s; \
         stab = s; \
         if (nauto) { \
-            if (st == SIG_OK && gate.holdoff == 0u && !gate.rejected_prev && mrun == 0u) { \
+            if (STEADY || (st == SIG_OK && gate.holdoff == 0u && !gate.rejected_prev && mrun == 0u)) { \
                 if (gate.frozen > 0u) gate.frozen--;   /* the gate's steady state, tested at once */ \
                 update = true; \
             } else { \
                 SIG_CHAIN_NOISE_GATE(gate, st, wn, mrun, nz.count, update); \
             } \
-            (void)sig_noise_next_f(&nz, xi, update); \
+            if (STEADY) sig_noise_next_finite_f(&nz, xi, update); \
+            else (void)sig_noise_next_f(&nz, xi, update); \
         } \
     } while (0)
+
+/* The extremes of a full window (n >= 3 finite values) after the one that
+ * left was an extreme: the largest (smallest) value in four runs of
+ * independent comparisons, not one chain through all n; the extreme that
+ * did not leave is kept and compared with the new sample.  The rescan of
+ * the step path (sig_antipulse.c) gives both anew, in storage order; the
+ * values are the same in any order, and so are their bits unless the
+ * value is zero (+0 == -0): then WINDOW_FULL_PUSH scans in storage
+ * order. */
+static inline sig_real window_max(const sig_real *b, uint8_t n)
+{
+    sig_real a0 = b[0], a1 = b[1], a2 = b[2], a3 = b[n - 1u];   /* the last may be b[2] again */
+    uint8_t j;
+    for (j = 3u; j + 4u <= n; j = (uint8_t)(j + 4u)) {
+        a0 = b[j] > a0 ? b[j] : a0;
+        a1 = b[j + 1u] > a1 ? b[j + 1u] : a1;
+        a2 = b[j + 2u] > a2 ? b[j + 2u] : a2;
+        a3 = b[j + 3u] > a3 ? b[j + 3u] : a3;
+    }
+    for (; j + 1u < n; j++) a0 = b[j] > a0 ? b[j] : a0;
+    a0 = a1 > a0 ? a1 : a0;
+    a2 = a3 > a2 ? a3 : a2;
+    return a2 > a0 ? a2 : a0;
+}
+
+static inline sig_real window_min(const sig_real *b, uint8_t n)
+{
+    sig_real a0 = b[0], a1 = b[1], a2 = b[2], a3 = b[n - 1u];
+    uint8_t j;
+    for (j = 3u; j + 4u <= n; j = (uint8_t)(j + 4u)) {
+        a0 = b[j] < a0 ? b[j] : a0;
+        a1 = b[j + 1u] < a1 ? b[j + 1u] : a1;
+        a2 = b[j + 2u] < a2 ? b[j + 2u] : a2;
+        a3 = b[j + 3u] < a3 ? b[j + 3u] : a3;
+    }
+    for (; j + 1u < n; j++) a0 = b[j] < a0 ? b[j] : a0;
+    a0 = a1 < a0 ? a1 : a0;
+    a2 = a3 < a2 ? a3 : a2;
+    return a2 < a0 ? a2 : a0;
+}
+
+/* A threshold in a stage written for both loops: noise_auto's steady loop
+ * (STEADY) derives it from sigma where it is used, so that the thresholds
+ * are not live across that loop (fewer values than registers: no spills);
+ * the general path reads its local (THRESHOLDS). */
+#define TH(STEADY, local, from_sigma) ((STEADY) ? (from_sigma) : (local))
 
 /* |v| as a max, no branch on the sign (v - w and w - v are one magnitude
  * exactly: |v - w| <= b is v - w <= b && w - v <= b); NaN for NaN */
@@ -154,6 +252,9 @@ static inline sig_real mag(sig_real v)
         stab = c->stable; \
         anchor = c->anchor; dage = c->drift_age; drifting = c->drifting; \
         tmean = c->trend_mean; \
+        zero = c->zero; tare_pending = c->tare_pending; \
+        kn = GAINS_UNKNOWN;                   /* P's place on its course from P0 */ \
+        has_level = c->has_level; level = has_level ? c->level : SIG_REAL(0.0);   /* set once stable */ \
         fast = c->limit.t.seeded && held != 0u && c->kf.seeded && c->st.has_prev && !c->ramp \
                && mx <= FAST_MAX && mn >= -FAST_MAX; \
     } while (0)
@@ -171,6 +272,9 @@ static inline sig_real mag(sig_real v)
         c->stable = stab; c->settled = srun >= stable_count; \
         c->anchor = anchor; c->drift_age = dage; c->drifting = drifting; \
         c->trend_mean = tmean; \
+        c->zero = zero; c->tare_pending = tare_pending; \
+        c->has_level = has_level; \
+        if (has_level) c->level = level; \
     } while (0)
 
 /* The batch form of sig_chain_step_f: x[0..n) -> out, stable (0/1).
@@ -198,13 +302,16 @@ static BATCH_BODY sig_status process_f(sig_chain_f *c, const sig_real *x, size_t
     sig_status st;
     bool s, conv, fast, accept, stab, drifting, trending, seed_first, update;
     sig_real dc, sum, mx, mn, kx, kp, kk, prev, offset;      /* hot state */
-    sig_real anchor, tmean;                                  /* noise_auto: hot state too, */
+    sig_real anchor, tmean, zero, level;                     /* noise_auto: hot state too, */
+    bool tare_pending, has_level;
     sig_noise_f nz;                 /* with the estimator and its gate (copied field by field: */
     sig_chain_gate gate;            /* a whole-struct copy costs a store-forwarding stall) */
     uint8_t head, held, lrun, srun, mrun, dage;
     int8_t lside, side;
     sig_real xi, y, d, m, m1, old, e, xk, v, pm, den, pn;
     uint8_t j, nrun;
+    sig_real gains[SIG_CHAIN_BATCH_GAINS > 0u ? SIG_CHAIN_BATCH_GAINS : 1u];   /* KALMAN_UPDATE */
+    uint16_t kn, gfill = 0u;
     /* parameters, in locals: the stores to the window and to out[] could
      * otherwise alias them and force a reload every sample (with noise_auto
      * the thresholds follow sigma: THRESHOLDS) */
@@ -223,7 +330,7 @@ static BATCH_BODY sig_status process_f(sig_chain_f *c, const sig_real *x, size_t
     for (i = 0u; i + 1u < n; i++) {
         THRESHOLDS();
         if (nauto && fast && held == wn && mrun == 0u && srun >= stable_count && gate.holdoff == 0u
-            && !gate.rejected_prev && nz.count == 255u) {
+            && !gate.rejected_prev && nz.count == 255u && lrun == 0u && lside == 0) {
             /* noise_auto's steady state (a full, settled window, no motion
              * run, the noise gate open, the estimator warmed up): the same
              * stages without the tests for what cannot happen here, on fewer
@@ -233,23 +340,27 @@ static BATCH_BODY sig_status process_f(sig_chain_f *c, const sig_real *x, size_t
              * this state. */
             held = wn;
             for (;;) {
-                nz.count = 255u;               /* as it is (saturated): now the compiler knows */
+                nz.count = 255u;               /* as they are (saturated, seen a sample): now the compiler knows */
+                nz.has_prev = true;
                 xi = x[i];
-                if (!(mag(xi - dc) <= a0 && mag(xi) <= FAST_MAX)) goto limit;
-                y = xi;
+                if (!(mag(xi - dc) <= SIG_CHAIN_A0_F(nz.sigma, false) && mag(xi) <= FAST_MAX)) {
+                    THRESHOLDS();
+                    goto limit;
+                }
+                y = xi;                        /* accepted: the limit's run stays 0 */
                 st = SIG_OK;
-                lrun = 0u;
-                lside = 0;
                 WINDOW_FULL_PUSH();
                 WINDOW_RESUM();
                 m = (sum - mx - mn) * inv;
-                if (mag(m - kx) > band) goto motion;
+                if (!(mag(m - kx) <= SIG_CHAIN_BAND_F(nz.sigma))) {   /* NaN too: e finite below */
+                    THRESHOLDS();
+                    goto motion;
+                }
                 dc = m;
-                KALMAN_UPDATE();
-                OUTPUT_STAGES();
-                if (i + 2u >= n || srun < stable_count) break;
+                KALMAN_UPDATE(true);
+                OUTPUT_STAGES(true);
+                if (i + 2u >= n || srun < stable_count) break;   /* THRESHOLDS at the loop's top */
                 i++;
-                THRESHOLDS();
             }
             continue;
         }
@@ -320,11 +431,12 @@ motion:
              * reset, then its seeding step) */
             kx = nauto || seed_first ? m : kx0;    /* noise_auto needs seed_first (sig_chain.h) */
             kp = kp0;
+            kn = 0u;
             conv = false;
             c->kf.seeded = true;
         }
-        KALMAN_UPDATE();
-        OUTPUT_STAGES();
+        KALMAN_UPDATE(false);
+        OUTPUT_STAGES(false);
     }
     /* the last sample on the step path: the state completed, its status returned */
     THRESHOLDS();
@@ -338,15 +450,46 @@ motion:
     return st;
 }
 
+/* one loop per form of the chain, each with its stage set known to the
+ * compiler (the tests of noise_auto folded away) */
+#define PROCESS_FORMS() \
+    return c->noise_auto ? process_f(c, x, n, out, stable, true) : process_f(c, x, n, out, stable, false)
+
+static sig_status process_forms(sig_chain_f *c, const sig_real *x, size_t n, sig_real *out, uint8_t *stable)
+{
+    PROCESS_FORMS();
+}
+
+/* x86-64 (gcc, clang): the same loops compiled once more for AVX, chosen
+ * at run time.  AVX's three-operand encoding of the same scalar operations
+ * saves the register copies SSE2's two-operand form needs before most of
+ * them (about a sixth of the loop's instructions; measured: about a tenth
+ * more samples per second).  Only "avx": without FMA nothing can be
+ * contracted, the results are the same bit for bit. */
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(SIG_CHAIN_BATCH_NO_AVX)
+#define BATCH_AVX 1
+__attribute__((target("avx")))
+static sig_status process_forms_avx(sig_chain_f *c, const sig_real *x, size_t n, sig_real *out, uint8_t *stable)
+{
+    PROCESS_FORMS();
+}
+#endif
+
 sig_status sig_chain_process_f(sig_chain_f *c, const sig_real *x, size_t n, sig_real *out, uint8_t *stable)
 {
     if (!c || (n != 0u && (!x || !out || !stable))) return SIG_ERR_ARG;
     if (n == 0u) return SIG_OK;
-    /* one loop per form of the chain, each with its stage set known to the
-     * compiler (the tests of noise_auto folded away) */
-    return c->noise_auto ? process_f(c, x, n, out, stable, true) : process_f(c, x, n, out, stable, false);
+#ifdef BATCH_AVX
+    if (__builtin_cpu_supports("avx")) return process_forms_avx(c, x, n, out, stable);
+#endif
+    return process_forms(c, x, n, out, stable);
 }
+#undef PROCESS_FORMS
+#undef BATCH_AVX
 #undef THRESHOLDS
+#undef GAINS_UNKNOWN
+#undef GAINS_ROOM
+#undef TH
 #undef WINDOW_FULL_PUSH
 #undef WINDOW_RESUM
 #undef KALMAN_UPDATE

@@ -127,8 +127,10 @@ SIG_CHAIN_STAGE bool sig_chain_drift_verdict(bool moved, bool *hold)
 SIG_CHAIN_STAGE bool sig_chain_backed(sig_status ret, uint8_t held, uint8_t n, uint8_t motion_run,
                                       bool drifting, bool trending, bool near)
 {
+    /* the last three combined without branches: on noise each is a coin
+     * toss now and then, a mispredicted branch late in the sample's work */
     return (ret & (SIG_WARN_REJECTED | SIG_LIMIT_RESEEDED | SIG_CHAIN_MOTION | SIG_CHAIN_RAMP)) == 0
-        && held == n && motion_run == 0u && !drifting && !trending && near;
+        && held == n && motion_run == 0u && (!drifting & !trending & near);
 }
 
 /* noise_auto: the trend test (sig_chain.h).  The residual r = y - output
@@ -151,7 +153,11 @@ SIG_CHAIN_STAGE bool sig_chain_trend_f(bool refilling, sig_real r, sig_real sigm
     e = *mean + (r - *mean) * SIG_REAL(0.5);
     *mean = e;
     band = sigma * SIG_REAL(1.15625);
-    return e > band || -e > band;
+#ifdef SIG_REAL_DOUBLE
+    return (e > -e ? e : -e) > band;            /* host: |e| as a max, no branch (sig_chain_backed) */
+#else
+    return e > band || -e > band;               /* float in software (MCUs): fewer operations */
+#endif
 }
 #endif /* SIG_NO_FLOAT */
 
@@ -170,23 +176,32 @@ SIG_CHAIN_STAGE bool sig_chain_trend_q(bool refilling, int32_t r, int32_t sigma,
 /* Tare and zero tracking on a stable sample xk: a pending tare takes xk as
  * the offset and as *zero (returns true); otherwise, while
  * |xk - *zero| <= zband, the offset moves towards xk by at most zrate
- * (zband 0: no tracking).  noise_auto passes the set zero (the offset at
+ * (zband 0: no tracking).  A sample not `stable` changes nothing; that is
+ * tested last, after the tests that hold for long runs of samples (on noise
+ * `stable` itself flips now and then: a branch on it first would be
+ * mispredicted).  noise_auto passes the set zero (the offset at
  * the last tare, set_offset or reset): the offset then stays within the
  * band of it, so tracking's total correction is bounded (OIML R76 bounds
  * zero tracking's range around the set zero the same way); the
  * fixed-threshold presets pass the offset itself: a drift is followed
  * without bound. */
-SIG_CHAIN_STAGE bool sig_chain_offset_f(sig_real xk, sig_real *offset, sig_real *zero, bool *tare_pending,
-                                      sig_real zband, sig_real zrate)
+SIG_CHAIN_STAGE bool sig_chain_offset_f(bool stable, sig_real xk, sig_real *offset, sig_real *zero,
+                                      bool *tare_pending, sig_real zband, sig_real zrate)
 {
     sig_real dz = xk - *offset, dr;
-    if (*tare_pending) {
+    if (*tare_pending && stable) {
         *tare_pending = false;
         *offset = *zero = xk;
         return true;
     }
     dr = zero == offset ? dz : xk - *zero;      /* one soft-float subtraction less when they are one */
-    if (zband <= SIG_REAL(0.0) || dr > zband || -dr > zband) return false;
+    /* out of the band first (the common case); on the host |dr| as a max, one
+     * test; a float in software (MCUs) pays per operation: two tests */
+#ifdef SIG_REAL_DOUBLE
+    if ((dr > -dr ? dr : -dr) > zband || zband <= SIG_REAL(0.0) || !stable) return false;
+#else
+    if (dr > zband || -dr > zband || zband <= SIG_REAL(0.0) || !stable) return false;
+#endif
     *offset += dz > zrate ? zrate : (dz < -zrate ? -zrate : dz);
     return false;
 }
@@ -215,16 +230,23 @@ SIG_CHAIN_STAGE bool sig_chain_offset_q(int32_t xk, int32_t *offset, int32_t *ze
 /* noise_auto: the thresholds from the measured sigma s (sig_chain.h;
  * fixed point: SIG_CHAIN_THRESHOLDS_Q in sig_chain_noise.h); with
  * no difference seen yet (`none`) no impulse can be told from noise: A0
- * takes every sample. */
+ * takes every sample.  Each also alone, for a loop that derives one where
+ * it is used (sig_chain_batch.c). */
+#define SIG_CHAIN_A0_F(s, none) (SIG_REAL(6.0) * ((none) ? SIG_NOISE_MAX_F : (s)))
+#define SIG_CHAIN_BAND_F(s) (SIG_REAL(1.5) * (s))
+#define SIG_CHAIN_STEP_F(s) (SIG_REAL(0.25) * (s))
+#define SIG_CHAIN_ZBAND_F(s) (s)
+#define SIG_CHAIN_ZRATE_F(s) (SIG_REAL(0.0625) * (s))
+#define SIG_CHAIN_NEAR_F(s) (SIG_REAL(2.0) * (s))
 SIG_CHAIN_STAGE void sig_chain_thresholds_f(sig_real s, bool none, sig_real *a0, sig_real *band,
                                           sig_real *step, sig_real *zband, sig_real *zrate, sig_real *nband)
 {
-    *a0 = SIG_REAL(6.0) * (none ? SIG_NOISE_MAX_F : s);
-    *band = SIG_REAL(1.5) * s;
-    *step = SIG_REAL(0.25) * s;
-    *zband = s;
-    *zrate = SIG_REAL(0.0625) * s;
-    *nband = SIG_REAL(2.0) * s;
+    *a0 = SIG_CHAIN_A0_F(s, none);
+    *band = SIG_CHAIN_BAND_F(s);
+    *step = SIG_CHAIN_STEP_F(s);
+    *zband = SIG_CHAIN_ZBAND_F(s);
+    *zrate = SIG_CHAIN_ZRATE_F(s);
+    *nband = SIG_CHAIN_NEAR_F(s);
 }
 #endif /* SIG_NO_FLOAT */
 

@@ -20,8 +20,10 @@
 
 SIG_NOISE_STAGE sig_real sig_noise_floor_f(sig_real x, sig_real res)
 {
-    sig_real f = x * SIG_NOISE_FLOOR_REL, nf = -f, q = res * SIG_REAL(0.25);
-    f = f > nf ? f : nf;                        /* |x| REL as a max: no branch on the sign */
+    sig_real nx = -x, q = res * SIG_REAL(0.25), f;
+    /* |x| REL (= |x REL|, rounding is symmetric), |x| as a max: no branch
+     * on the sign, and a caller that has |x| already shares it */
+    f = (x > nx ? x : nx) * SIG_NOISE_FLOOR_REL;
     if (q > f) f = q;
     return f > SIG_NOISE_FLOOR_ABS ? f : SIG_NOISE_FLOOR_ABS;
 }
@@ -60,16 +62,17 @@ SIG_NOISE_STAGE sig_real sig_noise_move_f(sig_real sigma, sig_real d, sig_real a
 #endif
 }
 
-/* sig_noise_step_f on a valid s */
-SIG_NOISE_STAGE sig_status sig_noise_next_f(sig_noise_f *s, sig_real x, bool update)
+/* sig_noise_step_f on a valid s and a finite x (a caller that has tested
+ * x already skips the test) */
+SIG_NOISE_STAGE void sig_noise_next_finite_f(sig_noise_f *s, sig_real x, bool update)
 {
     sig_real d, nd, change, lo;
-    if (!sig_real_isfinite(x)) return SIG_WARN_REJECTED;    /* on the bits: the same on every target */
     d = x - s->prev;                            /* may overflow to inf: counts as large */
     nd = s->prev - x;                           /* -d exactly: |d| as a max, not a branch on the sign */
     d = d > nd ? d : nd;
-    /* the code size of a quantised signal (the rarely true test first) */
-    if ((d < s->res || s->res == SIG_REAL(0.0)) && d > SIG_REAL(0.0) && d < SIG_NOISE_MAX_F && s->has_prev)
+    /* the code size of a quantised signal (the rarely true test first;
+     * res is 0 or a d in (0, MAX): !(res > 0) is res == 0, one test) */
+    if ((d < s->res || !(s->res > SIG_REAL(0.0))) && d > SIG_REAL(0.0) && d < SIG_NOISE_MAX_F && s->has_prev)
         s->res = d;
     if (s->has_prev && update) {
         if (s->count == 0u) {
@@ -84,6 +87,13 @@ SIG_NOISE_STAGE sig_status sig_noise_next_f(sig_noise_f *s, sig_real x, bool upd
     if (s->sigma < lo) s->sigma = lo;
     s->prev = x;
     s->has_prev = true;
+}
+
+/* sig_noise_step_f on a valid s */
+SIG_NOISE_STAGE sig_status sig_noise_next_f(sig_noise_f *s, sig_real x, bool update)
+{
+    if (!sig_real_isfinite(x)) return SIG_WARN_REJECTED;    /* on the bits: the same on every target */
+    sig_noise_next_finite_f(s, x, update);
     return SIG_OK;
 }
 
