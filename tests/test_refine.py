@@ -152,3 +152,11 @@ def test_too_few_samples_is_a_named_error():
     d = fx.FitData(y=run["x"][:20], t=run["t"][:20], T=run["temp"][:20])
     with pytest.raises(InsufficientDataError, match="usable samples"):
         refine(d)
+
+
+def test_powers_are_the_float_powers():
+    u = np.linspace(-1.0, 1.0, 101)
+    got = fx.powers(u, 6)
+    assert len(got) == 6 and fx.powers(u, 0) == []
+    for k, p in enumerate(got, start=1):
+        np.testing.assert_allclose(p, u ** k, rtol=1e-13, atol=1e-15)

@@ -61,3 +61,26 @@ def test_held_out_start_of_a_warm_up_is_predicted_from_its_tail(warm_up_under_a_
     assert rms(e_both[first]) < 1.5 * noise
     ok, verdict = judge(e_lag, e_both, opts, robust.samples_per_report(data.dt, opts.report_s), 4)
     assert ok, verdict
+
+
+def test_a_hysteresis_width_is_chosen_per_fold_near_its_fit():
+    """A fold chooses a play operator's width on a grid finer near the
+    full-data fit, as it does a time constant.  On the plain grid (steps of
+    39 %) a fold took a width about 20 % off, and the hysteresis predicted
+    the held-out blocks of this record (width 19.5 °C under a drift, 1 LSB
+    of noise, every 5 s, 8 h; a seed the bench does not hold) far worse
+    than at its fitted width (CV RMS 1.12 against 1.01), too little to be
+    told from the drift alone: it was not claimed."""
+    _, truth, data = overlap_case("hysteresis+drift", seed=18, noise=1.0, dt=5.0, length_s=8 * 3600.0)
+    opts = Options()
+    drift = fx.ModelSpec(2, (fx.Effect("drift", 4),))
+    both = fx.fit_param(data, drift, fx.FAMILIES["hysteresis"], 0)
+    width = next(e.param for e in both.spec.effects if e.name == "hysteresis")
+    assert width == pytest.approx(truth["effects"]["hysteresis"]["width"], rel=0.05)
+    grid = fx.FAMILIES["hysteresis"].fold_grid(data, None, width)
+    assert min(abs(np.log(np.asarray(grid) / width))) < 0.01
+    per_fold = rms(cv_residual(data, drift, opts, candidate_of(data, both.spec, "hysteresis", 0)))
+    at_fit = rms(cv_residual(data, both.spec, opts))
+    without = rms(cv_residual(data, drift, opts))
+    assert per_fold < 1.02 * at_fit, (per_fold, at_fit)
+    assert per_fold < 0.8 * without, (per_fold, without)

@@ -183,11 +183,13 @@ def test_an_effect_the_kept_model_no_longer_needs_is_dropped():
     """An effect added with a drift of few knots can carry less than the
     material margin once the drift's knots are chosen again with it in: it
     is taken out and reported as dropped, not claimed with a share near 0.
-    On this record (a hysteresis of half the span under a drift) the
-    re-chosen drift takes over part of the hysteresis; a warm-up taken for
-    part of the drift's settling went the same way when a fold's time
-    constant was the least tail SSE."""
-    _, truth, data = overlap_case("hysteresis+drift", seed=3, noise=1.0, dt=5.0, length_s=8 * 3600.0)
+    On this record (a hysteresis of 54 % of the span under a drift, 1 LSB
+    of noise, every 5 s, 8 h) the re-chosen drift (5 knots) takes over most
+    of the hysteresis: it removes 0.22 of a reading's systematic error
+    against a margin of 0.35 (at its true width on that drift, 0.21); a
+    warm-up taken for part of the drift's settling went the same way when
+    a fold's time constant was the least tail SSE."""
+    _, truth, data = overlap_case("hysteresis+drift", seed=14, noise=1.0, dt=5.0, length_s=8 * 3600.0)
     rep = refine(data).report()
     assert "warm_up" not in rep["effects_found"], rep["steps"]
     assert rep["dropped"], rep["steps"]
@@ -218,3 +220,17 @@ def test_a_function_of_time_alone_does_not_trade_for_a_drift_knot():
     out = redrift_trials(data, model, tried, Options(), lambda fam, spec: True)
     assert out and {name for _, name, _, _, _ in out} == {"hysteresis"}
     assert fx.FAMILIES["warm_up"].time_only and not fx.FAMILIES["hysteresis"].time_only
+
+
+def test_a_pair_that_predicts_worse_than_the_best_single_candidate_is_not_claimed():
+    """A warm-up under a lag (1 LSB, every 5 s, 8 h; a seed the bench does
+    not hold) whose warm-up alone predicts held-out blocks best of the
+    single candidates but misses the test (p = 0.023): a drift and a wide
+    hysteresis together, predicting worse (CV RMS 1.50 against 1.10),
+    passed as a pair and the hysteresis stayed on next to the warm-up added
+    after it.  A pair is judged only when it predicts better than every
+    single candidate."""
+    _, truth, data = overlap_case("warm_up+thermal_lag", seed=36, noise=1.0, dt=5.0, length_s=8 * 3600.0)
+    j = judge_case(truth, refine(data))
+    assert "hysteresis" not in j["found"], j
+    assert "thermal_lag" in j["found"] and j["params_within_50pct"]["thermal_lag"], j

@@ -133,3 +133,18 @@ def test_warm_up_transient_alone_is_named():
     assert 0.5 * WARM_UP_TAU_S < res.steps[0].params["tau_s"] < 1.5 * WARM_UP_TAU_S
     rep = res.report()
     assert rep["before"]["averaged_rms"] >= 2.0 * rep["after"]["averaged_rms"]
+
+
+@pytest.mark.parametrize("n,per_block", [(1, 1), (7, 3), (100, 10), (1001, 7), (5761, 2), (50, 200)])
+def test_block_means_are_the_means_of_array_split_blocks_without_nans(n, per_block):
+    """The blocks summed at once are np.array_split's; NaNs are skipped and
+    a block with none left is dropped, with each block's count."""
+    rng = np.random.default_rng(n)
+    e = rng.standard_normal(n)
+    e[rng.random(n) < 0.3] = np.nan
+    if n > 10:
+        e[: n // 3] = np.nan        # a run of blocks with nothing left
+    blocks = [b[np.isfinite(b)] for b in np.array_split(e, max(1, n // per_block))]
+    means, counts = robust.block_means(e, per_block)
+    np.testing.assert_allclose(means, [b.mean() for b in blocks if b.size], rtol=1e-12, atol=1e-15)
+    assert list(counts) == [b.size for b in blocks if b.size]

@@ -52,23 +52,25 @@ def bridge_rows(X_train, names):
 UNSEEN_NORM = 1e-2     # a column with under 1e-4 of its energy on the training rows
 
 
-def unseen_columns(X, rows, names):
+def unseen_columns(X, rows, names, full=None):
     """Columns the training rows do not determine: their norm there is
     under UNSEEN_NORM of their norm on the whole record (a warm-up of a
     short time constant when its start is held out).  Fitted, such a column
     takes a coefficient of the noise over its tiny training norm and
     extrapolates it into the held-out rows; it is left out instead (its
     coefficient 0: the fold predicts as if the effect were absent).  Table
-    knots are not among them: bridge_rows ties those to their neighbours."""
-    full = np.linalg.norm(X, axis=0)
+    knots are not among them: bridge_rows ties those to their neighbours.
+    `full`: the column norms on the whole record, when already computed."""
+    full = np.linalg.norm(X, axis=0) if full is None else full
     unseen = np.linalg.norm(X[rows], axis=0) < UNSEEN_NORM * full
     return unseen & ~np.array([nm.startswith(fx.TABLE_PREFIX) for nm in names])
 
 
-def fit_rows(X, y, rows, names):
+def fit_rows(X, y, rows, names, full=None):
     """Least squares of X[rows] on y[rows], table knots bridged (bridge_rows),
-    columns the rows do not determine left at 0 (unseen_columns)."""
-    keep = ~unseen_columns(X, rows, names)
+    columns the rows do not determine left at 0 (unseen_columns; `full`,
+    X's column norms, computed once for all folds)."""
+    keep = ~unseen_columns(X, rows, names, full)
     Xt, yt = X[rows][:, keep], y[rows]
     extra = bridge_rows(Xt, [nm for nm, k in zip(names, keep) if k])
     if extra is not None:
@@ -91,6 +93,7 @@ def cv_residual(data, spec, opts, candidate=None):
         params = fam.fold_grid(data, top, center)
         specs = [spec.with_effect(fx.Effect(fam.name, variant, p)) for p in params]
     designs = [fx.design(data, s) for s in specs]
+    norms = [np.linalg.norm(X, axis=0) for X, _ in designs]
     e = np.full(data.n, np.nan)
     for train, test in fold_rows(data.n, opts.folds, gap):
         tr = train & data.mask
@@ -102,8 +105,8 @@ def cv_residual(data, spec, opts, candidate=None):
                 f"refine: a cross-validation fold keeps {int(tr.sum())} training samples for "
                 f"{designs[0][0].shape[1]} parameters; use fewer folds or more data")
         fits = []
-        for X, names in designs:
-            beta, _ = fit_rows(X, data.y, tr, names)
+        for (X, names), full in zip(designs, norms):
+            beta, _ = fit_rows(X, data.y, tr, names, full)
             res = data.y[tr] - X[tr] @ beta
             fits.append((float(res @ res), X, beta))
         _, X, beta = fits[fold_choice([f[0] for f in fits], params, center, int(tr.sum()),

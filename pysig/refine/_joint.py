@@ -61,18 +61,28 @@ def pair_trials(data, model, tried, opts, admissible):
         if fx.FAMILIES[a].param_name is not None and fx.FAMILIES[b].param_name is None:
             a, b = b, a          # the linear member first: the nonlinear one is searched on top of it
         for va in _variants(a, best[a]):
+            joints = None
             for vb in _variants(b, best[b]):
-                joint = fx.fit_param(data, model.spec, fx.FAMILIES[a], va)
-                joint = fx.fit_param(data, joint.spec, fx.FAMILIES[b], vb)
-                joint = repolish(data, joint.spec)
-                for joint in [joint] + _knots_with_partner(data, joint, a, opts):
-                    joint = reselect(data, joint, opts, polish=False)
+                if joints is None or _nonlinear_count(joints[0]) > 1:
+                    # with one nonlinear parameter the re-polish refits it in
+                    # every start variant: the joint fit does not depend on vb
+                    joint = fx.fit_param(data, model.spec, fx.FAMILIES[a], va)
+                    joint = fx.fit_param(data, joint.spec, fx.FAMILIES[b], vb)
+                    joint = repolish(data, joint.spec)
+                    joints = [reselect(data, j, opts, polish=False)
+                              for j in [joint] + _knots_with_partner(data, joint, a, opts)]
+                for joint in joints:
                     if not all(admissible(fx.FAMILIES[n], joint.spec) for n in (a, b)):
                         continue
                     e = cv_residual(data, joint.spec.without(b), opts, candidate_of(data, joint.spec, b, vb))
                     knots = next(e.variant for e in joint.spec.effects if e.name == a) if a == "drift" else va
                     out.append((rms(e), (a, b), (knots, vb), e, joint))
     return out
+
+
+def _nonlinear_count(model):
+    """How many effects of `model` have a nonlinear parameter."""
+    return sum(1 for e in model.spec.effects if fx.FAMILIES[e.name].param_name)
 
 
 def _knots_with_partner(data, joint, member, opts):

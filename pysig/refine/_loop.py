@@ -86,16 +86,21 @@ def refine(data, opts=None):
     return _loop(replace(data, mask=used & ~again), used, again, opts)
 
 
-def _first_passing(data, trials, e_cv, opts, per_report, n_families, material_in_trial=False):
+def _first_passing(data, trials, e_cv, opts, per_report, n_families, material_in_trial=False,
+                   better_than=None):
     """The best trial by CV RMS (one effect or a pair) that passes the test
     and needs every member it names (_joint.member_not_needed), with its
     verdict; None if none does.  The Bonferroni count is `n_families` plus
     the distinct names the trials try.
     `material_in_trial`: against the current model only the significance
     and the relative gain are asked; how much the newcomer removes is
-    judged in the trial's own model."""
+    judged in the trial's own model.
+    `better_than`: only trials whose CV RMS is below it may pass (all are
+    counted as tried)."""
     n_tried = n_families + len({t[1] for t in trials})
     for t in sorted(trials, key=lambda x: x[0]):
+        if better_than is not None and not t[0] < better_than:
+            break
         t_ok, t_verdict = judge(e_cv, t[3], opts, per_report, n_tried)
         if material_in_trial:
             t_ok = (t_verdict["p_value"] < t_verdict["p_threshold"]
@@ -180,9 +185,12 @@ def _loop(data, used, impulses, opts):
                                        e_cv, opts, per_report, n_families, material_in_trial=True)
                 rechosen = "drift_knots_rechosen" if found is not None else None
             if found is None:
-                # two overlapping effects can each fail alone and pass together
+                # two overlapping effects can each fail alone and pass together;
+                # a pair that predicts worse than the best single candidate
+                # is not that (a drift and a hysteresis standing in for a
+                # warm-up that predicts better alone)
                 found = _first_passing(data, pair_trials(data, model, tried, opts, admissible),
-                                       e_cv, opts, per_report, n_families)
+                                       e_cv, opts, per_report, n_families, better_than=tried[0][0])
             if found is not None:
                 (cv_new, name, variant, e_new, trial), verdict = found
                 ok = True
