@@ -27,7 +27,7 @@ import numpy as np
 
 from pysig.refine import FitData
 from pysig.refine._effect_models import first_order_lag, lag_alpha, play_operator
-from lab.studies.overlap_cases import ramp_hold_profile
+from lab.studies.overlap_cases import ramp_hold_profile, roaming_temperature
 
 PROFILES = ("ramp_hold", "steps", "roaming")
 IMPERFECTIONS = ("coloured", "walk", "room", "gaps", "all")
@@ -54,14 +54,7 @@ def _profile(kind, rng):
     if kind == "roaming":
         dt, L = 60.0, rng.uniform(24.0, 36.0) * 3600.0
         grid = np.arange(0.0, L + dt, dt)
-        place = np.empty(grid.size)
-        k, cold = 0, bool(rng.integers(2))
-        while k < grid.size:
-            stay = int(rng.uniform(1.0, 4.0) * 3600.0 / dt)
-            place[k:k + stay] = rng.uniform(-3.0, 8.0) if cold else rng.uniform(24.0, 36.0)
-            k += stay
-            cold = not cold
-        T = first_order_lag(place, lag_alpha(rng.uniform(900.0, 2400.0), dt))
+        T = roaming_temperature(rng, grid.size, dt)
         return dt, L, lambda t: np.interp(t, grid, T)
     raise ValueError(kind)
 
