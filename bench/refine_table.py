@@ -17,7 +17,15 @@ records built like two real bench logs (a resistor on a stepped plate, an
 instrument carried between cold and warm places); each judged by the
 physical effects named, each parameter within +-50 %, and the blocked-CV
 error cut; the same kinds once more off the grid (held out: noise 1 LSB,
-every 5 s, 8 h, seeds 3 and 11, both units).  Run with OPENBLAS_NUM_THREADS=1 on a shared machine (many small
+every 5 s, 8 h, seeds 3 and 11, both units).
+
+Imperfect records (bench/lab/studies/imperfect_cases.py): no physical
+effect, only the static offset (and a random-walk or 1/f zero in some), but
+AR(1) noise, a quantised reading and temperature, a room cycle, gaps between
+sessions and jittered times, on three temperature profiles and two units;
+counted by the records on which any effect is named (a false claim).  The
+same imperfections with a real thermal lag or hysteresis check that power
+is kept.  Run with OPENBLAS_NUM_THREADS=1 on a shared machine (many small
 least-squares fits: threads only contend).
 """
 import argparse
@@ -31,6 +39,7 @@ from pysig.refine import refine
 from lab.studies.refine_study import clean_cases, injected_cases, real_cases, row
 from lab.studies.overlap_cases import (HELD_OUT, KINDS, grid_cases, held_out_cases, judge_case, options_for,
                                       real_like_cases)
+from lab.studies.imperfect_cases import imperfect_clean_cases, imperfect_effect_cases
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DATA = os.path.join(HERE, "..", "..", "shared", "data")
@@ -77,6 +86,40 @@ def overlap_summary(rows):
     return out
 
 
+def imperfect_summary(rows):
+    """Per imperfection (the label's part after "imperfect: "): cases, and
+    those where a physical effect was named, the drift, an offset shape."""
+    out = {}
+    for r in rows:
+        kind = r["case"].split("imperfect: ")[1].split(",")[0]
+        k = out.setdefault(kind, {"cases": 0, "effect_named": 0, "drift": 0})
+        k["cases"] += 1
+        k["effect_named"] += bool(r["found"])
+        k["drift"] += r["drift_reported"]
+    return out
+
+
+def run_imperfect(out, clean_seeds, effect_seeds):
+    """The imperfect records: no effect (false claims counted), then with one."""
+    for key, cases in (("imperfect_clean", imperfect_clean_cases(range(clean_seeds))),
+                       ("imperfect_effect", imperfect_effect_cases(range(effect_seeds)))):
+        print("| case | in the record | refine named | right | parameter (true) | within 50 % | drift line | "
+              "CV cut | share of systematic removed |\n|---|---|---|---|---|---|---|---|---|")
+        for label, truth, data in cases:
+            t0 = time.perf_counter()
+            r = overlap_row(label, truth, refine(data), time.perf_counter() - t0)
+            out[key].append(r)
+            print(fmt_overlap(r), flush=True)
+        print()
+    out["imperfect_clean_summary"] = imperfect_summary(out["imperfect_clean"])
+    for kind, k in out["imperfect_clean_summary"].items():
+        print(f"  no effect, {kind}: an effect named on {k['effect_named']} of {k['cases']} "
+              f"(drift line on {k['drift']})")
+    found = sum(r["named_right"] for r in out["imperfect_effect"])
+    print(f"  with a lag or a hysteresis: named right on {found} of {len(out['imperfect_effect'])}")
+    print()
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--json", help="write the rows as JSON")
@@ -92,8 +135,13 @@ def main(argv=None):
                     help="seeds of the held-out cases (the bench's are %(default)s)")
     ap.add_argument("--held-out-kinds", nargs="+", default=list(KINDS), choices=KINDS,
                     help="kinds of held-out case to run (all by default)")
+    ap.add_argument("--imperfect-seeds", type=int, default=10,
+                    help="seeds of each imperfection of the no-effect imperfect records (0: skip)")
+    ap.add_argument("--imperfect-effect-seeds", type=int, default=3,
+                    help="seeds of each effect under all imperfections")
     args = ap.parse_args(argv)
-    out = {"injected": [], "clean": {}, "real": [], "overlap": [], "real_like": [], "held_out": []}
+    out = {"injected": [], "clean": {}, "real": [], "overlap": [], "real_like": [], "held_out": [],
+           "imperfect_clean": [], "imperfect_effect": []}
     head = ("| case | injected | refine added | impulses | robust RMS | plain RMS | RMS of 10-s reading | "
             "ratio (robust) | unexplained |\n|---|---|---|---|---|---|---|---|---|")
     if not args.skip_injected:
@@ -141,6 +189,8 @@ def main(argv=None):
                       f"{k['params_within_50pct']}/{k['cases']}, drift line {k['drift_reported']}/{k['cases']}, "
                       f"CV cut min {k['cv_cut_min']:.2f}x median {k['cv_cut_median']:.2f}x")
         print()
+    if args.imperfect_seeds > 0:
+        run_imperfect(out, args.imperfect_seeds, args.imperfect_effect_seeds)
     print(head)
     for label, data in real_cases(args.data):
         t0 = time.perf_counter()

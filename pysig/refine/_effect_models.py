@@ -31,6 +31,14 @@ spanning the record) fitted with the temperature model, so the physical
 effects are judged on top of it; it is a nuisance, not a property of the
 device, and is left out of the device correction.
 
+Time stamps need not be uniform.  A lag is filtered over the real time
+between samples (FitData.runs), so a gap relaxes it as far as that much
+time does instead of being filtered through as one sample.  A gap longer
+than BREAK_PERIODS sample periods and BREAK_FRACTION of the record parts
+two sessions (FitData.breaks): the drift runs over the logged time (each
+gap shortened to one sample period) and takes a step at each break, since
+nothing ties the zero of one session to the last of the one before.
+
 The on-device forms of the state (lag IIR, play operator) are in
 csrc/include/sig_effects.h and csrc/refine/ (sig_lag.c, sig_hyst.c);
 tests/spec/effects.py is their fixed-point spec.  The float forms
@@ -50,6 +58,9 @@ LOCAL_POINTS = 11          # (steps of 2**(2/10), 15 %: the 20-point grid steps 
 EXTEND_FACTOR = 2.0        # a fit at the top of its range: look this much further, step by step
 EXTEND_POINTS = 6
 MONOTONE_RHO = 0.9       # drift unavailable: time and temperature rank alike
+IRREGULAR_FACTOR = 1.5   # an interval this much over the median is filtered on its own
+BREAK_PERIODS = 10.0     # a gap of more sample periods than this, and of more than
+BREAK_FRACTION = 0.01    # this fraction of the record, parts two sessions
 
 from . import _effects
 
@@ -65,6 +76,26 @@ def first_order_lag(x, alpha):
     """z[0] = x[0]; z[k] = z[k-1] + alpha * (x[k] - z[k-1])  (the device's IIR)."""
     x = np.asarray(x, dtype=float)
     z, _ = signal.lfilter([alpha], [1.0, -(1.0 - alpha)], x, zi=[(1.0 - alpha) * x[0]])
+    return z
+
+
+def lag_on_times(x, tau, data):
+    """first_order_lag of `x` over the real time between samples: each run
+    of regular intervals (data.runs) at its mean interval, each longer
+    interval (a dropped sample, a gap) relaxing the state by its own
+    length, z <- z + (1 - exp(-interval / tau)) (x - z).  Uniform times
+    give first_order_lag at the median interval, as the device's IIR."""
+    if len(data.runs) == 1:
+        return first_order_lag(x, lag_alpha(tau, data.dt))
+    x = np.asarray(x, dtype=float)
+    z = np.empty(x.size)
+    for a, b, step in data.runs:
+        alpha = lag_alpha(tau, step)
+        start = x[a] if a == 0 else z[a - 1] + lag_alpha(tau, data.t[a] - data.t[a - 1]) * (x[a] - z[a - 1])
+        z[a] = start
+        if b - a > 1:
+            z[a + 1:b], _ = signal.lfilter([alpha], [1.0, -(1.0 - alpha)], x[a + 1:b],
+                                           zi=[(1.0 - alpha) * start])
     return z
 
 
@@ -107,7 +138,7 @@ class FitData:
         self.mask = np.asarray(self.mask, dtype=bool)
         dt = np.diff(self.t)
         self.dt = float(np.median(dt)) if dt.size else 1.0
-        self.span_t = float(self.t[-1] - self.t[0]) if n > 1 else 1.0
+        self._time_structure(dt)
         if self.T is not None:
             self.T = np.asarray(self.T, dtype=float)
             self.t_center, self.t_scale = center_scale(self.T)
@@ -117,6 +148,27 @@ class FitData:
             self.r_abs = float(np.max(np.abs(self.r))) or 1.0
         self.others = {k: np.asarray(v, dtype=float) for k, v in self.others.items()}
         self.segments = tuple(sorted({0, *(int(i) for i in self.segments if 0 <= int(i) < n)}))
+
+    def _time_structure(self, dt):
+        """`runs`: (first, end, mean interval) of each run of samples joined
+        by intervals under IRREGULAR_FACTOR x the median; `breaks`: the first
+        sample of each session after the first (a gap over BREAK_PERIODS
+        sample periods and BREAK_FRACTION of the record); `t_logged`: the
+        time with each break shortened to one sample period; `span_t` its
+        span, the time the record resolves."""
+        irregular = np.flatnonzero(dt > IRREGULAR_FACTOR * self.dt) + 1
+        edges = [0, *irregular.tolist(), self.y.size]
+        self.runs = tuple((a, b, float(np.mean(dt[a:b - 1])) if b - a > 1 else self.dt)
+                          for a, b in zip(edges[:-1], edges[1:]) if b > a)
+        span = float(self.t[-1] - self.t[0]) if dt.size else 0.0
+        self.breaks = tuple(int(k) + 1 for k in np.flatnonzero(
+            (dt > BREAK_PERIODS * self.dt) & (dt > BREAK_FRACTION * span)))
+        self.t_logged = self.t
+        if self.breaks:
+            shortened = dt.copy()
+            shortened[[k - 1 for k in self.breaks]] = self.dt
+            self.t_logged = self.t[0] + np.concatenate([[0.0], np.cumsum(shortened)])
+        self.span_t = float(self.t_logged[-1] - self.t_logged[0]) if dt.size else 1.0
 
     @property
     def n(self):
@@ -250,7 +302,7 @@ class ThermalLag(TimeConstantFamily):
         return np.empty((data.n, 0)), []
 
     def transform(self, data, T, effect):
-        return first_order_lag(T, lag_alpha(effect.param, data.dt))
+        return lag_on_times(T, effect.param, data)
 
 
 class Hysteresis(Family):
@@ -299,7 +351,7 @@ class Creep(TimeConstantFamily):
         return None if data.has_ref else "no varying reference (no load changes)"
 
     def columns(self, data, T_used, effect):
-        z = first_order_lag(data.r, lag_alpha(effect.param, data.dt))
+        z = lag_on_times(data.r, effect.param, data)
         return ((z - data.r) / data.r_abs)[:, None], ["lag(r)-r"]
 
 
@@ -382,7 +434,10 @@ class Drift(Family):
     the curvature of a settling for a wide hysteresis or a short warm-up to
     take (false claims on records with a drift alone).
     A few knots only, so it is slower than any effect it could hide (a
-    warm-up or a lag of a fraction of the record).  A nuisance: reported as
+    warm-up or a lag of a fraction of the record).  Over the logged time,
+    with a step at each break between sessions (FitData.breaks): a zero
+    that wandered while nothing was logged is a step, which a smooth
+    spline cannot follow and a hysteresis or a warm-up would take.  A nuisance: reported as
     its own line, never exported to the device."""
     name = "drift"
     variants = (2, 3, 4, 5)
@@ -402,11 +457,14 @@ class Drift(Family):
         return None
 
     def columns(self, data, T_used, effect):
-        knots = np.linspace(data.t[0], data.t[-1], effect.variant)
+        t = data.t_logged
+        knots = np.linspace(t[0], t[-1], effect.variant)
         # column j: the spline through 1 at knot j and 0 at the others; they
         # sum to one, so the first is the constant the base already has
-        basis = interpolate.CubicSpline(knots, np.eye(effect.variant), bc_type="not-a-knot")(data.t)
-        return basis[:, 1:], [f"knot{j}" for j in range(1, effect.variant)]
+        basis = interpolate.CubicSpline(knots, np.eye(effect.variant), bc_type="not-a-knot")(t)
+        steps = [(np.arange(data.n) >= b).astype(float) for b in data.breaks]
+        return (np.column_stack([basis[:, 1:], *steps]),
+                [f"knot{j}" for j in range(1, effect.variant)] + [f"session@{b}" for b in data.breaks])
 
 
 FAMILIES = {f.name: f for f in (GainDrift(), ThermalLag(), Hysteresis(), Creep(),

@@ -89,7 +89,8 @@ class Result:
             return None
         knots = next(e.variant for e in self.final.spec.effects if e.name == "drift")
         used = curve[self.data.mask]
-        return {"knots": int(knots), "over_record": float(np.ptp(used)),
+        return {"knots": int(knots), "session_steps": len(self.data.breaks),
+                "over_record": float(np.ptp(used)),
                 "start_to_end": float(used[-1] - used[0]),
                 "unit": self.data.labels.get("unit") or (f"units of {self.data.labels['column']}"
                                                          if "column" in self.data.labels else "reading units"),

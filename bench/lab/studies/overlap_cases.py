@@ -144,6 +144,20 @@ def plate_resistor_case(seed=0, dt=2.0, noise_ohm=0.02):
             f"seed {seed}", truth, FitData(y=y, t=t, T=temp, labels={"unit": "ohm"}))
 
 
+def roaming_temperature(rng, n, dt):
+    """n samples every dt of an instrument's temperature carried between
+    cold places (-3..8 °C) and warm ones (24..36 °C), 1-4 h in each,
+    settling towards each place's in 15-40 min."""
+    place = np.empty(n)
+    k, cold = 0, bool(rng.integers(2))
+    while k < n:
+        stay = int(rng.uniform(1.0, 4.0) * 3600.0 / dt)
+        place[k:k + stay] = rng.uniform(-3.0, 8.0) if cold else rng.uniform(24.0, 36.0)
+        k += stay
+        cold = not cold
+    return first_order_lag(place, lag_alpha(rng.uniform(900.0, 2400.0), dt))
+
+
 def roaming_instrument_case(seed=0, dt=60.0, hours=30.0):
     """An instrument carried between cold places (-3..8 °C) and warm ones
     (24..36 °C) for more than a day, 1-4 h in each; its temperature settles
@@ -152,14 +166,7 @@ def roaming_instrument_case(seed=0, dt=60.0, hours=30.0):
     span, plus a slow drift in time."""
     rng = np.random.default_rng(seed)
     t = np.arange(0.0, hours * 3600.0, dt)
-    place = np.empty(t.size)
-    k, cold = 0, bool(rng.integers(2))
-    while k < t.size:
-        stay = int(rng.uniform(1.0, 4.0) * 3600.0 / dt)
-        place[k:k + stay] = rng.uniform(-3.0, 8.0) if cold else rng.uniform(24.0, 36.0)
-        k += stay
-        cold = not cold
-    T = first_order_lag(place, lag_alpha(rng.uniform(900.0, 2400.0), dt))
+    T = roaming_temperature(rng, t.size, dt)
     w = float(np.ptp(T)) * rng.uniform(0.55, 0.75)
     y = 0.8 * (T - 20.0) - 0.004 * (T - 20.0) ** 2
     y = y + rng.uniform(3.0, 5.0) * (T - play_operator(T, w)) / w

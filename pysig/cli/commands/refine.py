@@ -176,7 +176,9 @@ def drift_and_share_lines(rep):
     d = rep["drift"]
     if d:
         lines.append(f"  drift in time (nuisance, not in the device correction): {d['over_record']:.4g} "
-                     f"{d['unit']} over the record ({d['start_to_end']:+.4g} start to end, {d['knots']} knots)")
+                     f"{d['unit']} over the record ({d['start_to_end']:+.4g} start to end, {d['knots']} knots"
+                     + (f", a step at each of {d['session_steps']} breaks between sessions"
+                        if d.get("session_steps") else "") + ")")
     pairs = {tuple(sorted([s["effect"], *s["judged_with"]])) for s in rep["steps"] if s["judged_with"]}
     for pair in sorted(pairs):
         lines.append(f"  judged together: {' + '.join(pair)} (neither passed alone)")
