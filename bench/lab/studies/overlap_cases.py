@@ -337,7 +337,7 @@ def preisach_branch(T, widths, weights):
     return sum(a * (T - play_operator(T, w)) / w for w, a in zip(widths, weights))
 
 
-def roaming_imperfect_case(seed=0, unit="mg", hysteresis=True):
+def roaming_imperfect_case(seed=0, unit="mg", hysteresis=True, drift_mg=1.5):
     """An instrument carried between cold and warm places, as
     roaming_instrument_case, with what a real log has: a hysteresis that is
     a sum of 6 play operators whose widths spread around a dominant one of
@@ -347,7 +347,8 @@ def roaming_imperfect_case(seed=0, unit="mg", hysteresis=True):
     AR(1) plus white noise; the reading quantised (0.05 mg, or counts of
     0.061 mg) and the temperature at 0.0625 °C (raw code 512/K).  The sample
     period (30, 60 or 120 s) and the length (24-40 h) are drawn.
-    `hysteresis` False: the same record without it (a control)."""
+    `hysteresis` False: the same record without it (a control).  `drift_mg`:
+    the size of the irregular drift (the hysteresis is 3-5 mg)."""
     rng = np.random.default_rng(seed)
     dt = float(rng.choice([30.0, 60.0, 120.0]))
     hours = rng.uniform(24.0, 40.0)
@@ -372,7 +373,7 @@ def roaming_imperfect_case(seed=0, unit="mg", hysteresis=True):
     if hysteresis:
         y = y + amplitude * preisach_branch(T, widths, weights)
     # the unexplained part is of the order of the hysteresis: the cut is ~1.5x
-    y = y + irregular_drift(rng, t, 1.5) + coloured_noise(rng, t.size, dt, amplitude * rng.uniform(0.12, 0.2),
+    y = y + irregular_drift(rng, t, drift_mg) + coloured_noise(rng, t.size, dt, amplitude * rng.uniform(0.12, 0.2),
                                                            rng.uniform(0.1, 0.3))
     temp = quantise(T + 0.03 * rng.standard_normal(t.size), 0.0625)
     if unit == "counts":
@@ -382,23 +383,29 @@ def roaming_imperfect_case(seed=0, unit="mg", hysteresis=True):
     truth = {"effects": {"hysteresis": {"width": w0 * scale_T}} if hysteresis else {}, "drift": True,
              "report_s": 600.0, "scale": {"reading": scale_y, "temperature": scale_T},
              "hysteresis_widths": list(widths * scale_T), "hysteresis_weights": list(weights)}
-    kind = "roaming instrument, imperfect" + ("" if hysteresis else ", no hysteresis (control)")
+    kind = (f"roaming instrument, imperfect, drift {drift_mg:g} mg"
+            + ("" if hysteresis else ", no hysteresis (control)"))
     what = (f"{len(widths)} play operators, dominant width {w0:.1f} °C of {span:.1f}" if hysteresis
             else f"span {span:.1f} °C")
     return (f"{kind}: {what}, every {dt:g} s, {hours:.0f} h, {unit}, seed {seed}",
             truth, FitData(y=y, t=t, T=Tr, labels={"unit": unit}))
 
 
+ROAMING_DRIFTS_MG = (0.5, 1.5)      # an irregular drift of 1/10 and of 1/3 of the hysteresis
+
+
 def imperfect_cases(seeds=(0, 1, 2), controls=True):
-    """Imperfect plate and roaming records in both units (alternating by
-    seed), and, with `controls`, the same records without the physical
-    effect."""
+    """Imperfect plate and roaming records (the roaming ones under a smaller
+    and a larger irregular drift) in both units, alternating by seed, and,
+    with `controls`, the same records without the physical effect."""
     for seed in seeds:
         yield plate_imperfect_case(seed, PLATE_UNITS[seed % 2])
-    for seed in seeds:
-        yield roaming_imperfect_case(seed, ROAMING_UNITS[seed % 2])
     if controls:
         for seed in seeds:
             yield plate_imperfect_case(seed, PLATE_UNITS[seed % 2], lag=False)
+    for drift_mg in ROAMING_DRIFTS_MG:
         for seed in seeds:
-            yield roaming_imperfect_case(seed, ROAMING_UNITS[seed % 2], hysteresis=False)
+            yield roaming_imperfect_case(seed, ROAMING_UNITS[seed % 2], drift_mg=drift_mg)
+        if controls:
+            for seed in seeds:
+                yield roaming_imperfect_case(seed, ROAMING_UNITS[seed % 2], hysteresis=False, drift_mg=drift_mg)
