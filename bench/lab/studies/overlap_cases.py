@@ -146,6 +146,19 @@ def plate_resistor_case(seed=0, dt=2.0, noise_ohm=0.02):
             f"seed {seed}", truth, FitData(y=y, t=t, T=temp, labels={"unit": "ohm"}))
 
 
+def cold_and_warm_places(rng, t, dt):
+    """The temperature of the places an instrument is carried between:
+    cold ones (-3..8 °C) and warm ones (24..36 °C) in turn, 1-4 h each."""
+    place = np.empty(t.size)
+    k, cold = 0, bool(rng.integers(2))
+    while k < t.size:
+        stay = int(rng.uniform(1.0, 4.0) * 3600.0 / dt)
+        place[k:k + stay] = rng.uniform(-3.0, 8.0) if cold else rng.uniform(24.0, 36.0)
+        k += stay
+        cold = not cold
+    return place
+
+
 def roaming_instrument_case(seed=0, dt=60.0, hours=30.0):
     """An instrument carried between cold places (-3..8 °C) and warm ones
     (24..36 °C) for more than a day, 1-4 h in each; its temperature settles
@@ -154,13 +167,7 @@ def roaming_instrument_case(seed=0, dt=60.0, hours=30.0):
     span, plus a slow drift in time."""
     rng = np.random.default_rng(seed)
     t = np.arange(0.0, hours * 3600.0, dt)
-    place = np.empty(t.size)
-    k, cold = 0, bool(rng.integers(2))
-    while k < t.size:
-        stay = int(rng.uniform(1.0, 4.0) * 3600.0 / dt)
-        place[k:k + stay] = rng.uniform(-3.0, 8.0) if cold else rng.uniform(24.0, 36.0)
-        k += stay
-        cold = not cold
+    place = cold_and_warm_places(rng, t, dt)
     T = first_order_lag(place, lag_alpha(rng.uniform(900.0, 2400.0), dt))
     w = float(np.ptp(T)) * rng.uniform(0.55, 0.75)
     y = 0.8 * (T - 20.0) - 0.004 * (T - 20.0) ** 2
@@ -353,13 +360,7 @@ def roaming_imperfect_case(seed=0, unit="mg", hysteresis=True, drift_mg=1.5):
     dt = float(rng.choice([30.0, 60.0, 120.0]))
     hours = rng.uniform(24.0, 40.0)
     t = np.arange(0.0, hours * 3600.0, dt)
-    place = np.empty(t.size)
-    k, cold = 0, bool(rng.integers(2))
-    while k < t.size:
-        stay = int(rng.uniform(1.0, 4.0) * 3600.0 / dt)
-        place[k:k + stay] = rng.uniform(-3.0, 8.0) if cold else rng.uniform(24.0, 36.0)
-        k += stay
-        cold = not cold
+    place = cold_and_warm_places(rng, t, dt)
     warm = place > 15.0
     place = place + np.where(warm, room_cycle(rng, t, rng.uniform(0.3, 1.0)), 0.0)
     T = first_order_lag(place, lag_alpha(rng.uniform(900.0, 2400.0), dt))
