@@ -17,7 +17,11 @@ records built like two real bench logs (a resistor on a stepped plate, an
 instrument carried between cold and warm places); each judged by the
 physical effects named, each parameter within +-50 %, and the blocked-CV
 error cut; the same kinds once more off the grid (held out: noise 1 LSB,
-every 5 s, 8 h, seeds 3 and 11, both units).
+every 5 s, 8 h, seeds 3 and 11, both units); imperfect versions of the
+two real-like records (coloured noise, a room cycle, quantised readings and
+temperatures, a two-pole lag, a spread of hysteresis widths, an irregular
+drift, structure no candidate explains) with controls that lack the
+physical effect (nothing physical may be claimed there).
 
 Imperfect records (bench/lab/studies/imperfect_cases.py): no physical
 effect, only the static offset (and a random-walk or 1/f zero in some), but
@@ -37,8 +41,8 @@ import time
 from pysig.io import atomic_output
 from pysig.refine import refine
 from lab.studies.refine_study import clean_cases, injected_cases, real_cases, row
-from lab.studies.overlap_cases import (HELD_OUT, KINDS, grid_cases, held_out_cases, judge_case, options_for,
-                                      real_like_cases)
+from lab.studies.overlap_cases import (HELD_OUT, KINDS, grid_cases, held_out_cases, real_like_imperfect_cases, judge_case,
+                                      options_for, real_like_cases)
 from lab.studies.imperfect_cases import imperfect_clean_cases, imperfect_effect_cases
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -68,11 +72,12 @@ def fmt_overlap(r):
             f"{'yes' if r['drift_reported'] else 'no'} | {r['cv_cut']:.2f}x | {shares} |")
 
 
-def overlap_summary(rows):
-    """Counts by kind of case (the part of the label before the first comma)."""
+def overlap_summary(rows, kind_end=","):
+    """Counts by kind of case (the part of the label before the first
+    `kind_end`)."""
     out = {}
     for r in rows:
-        kind = r["case"].split(",")[0]
+        kind = r["case"].split(kind_end)[0]
         k = out.setdefault(kind, {"cases": 0, "named_right": 0, "params_within_50pct": 0, "drift_reported": 0,
                                   "cv_cut_min": float("inf"), "cv_cut_median": None, "_cuts": []})
         k["cases"] += 1
@@ -129,6 +134,8 @@ def main(argv=None):
     ap.add_argument("--skip-overlap", action="store_true")
     ap.add_argument("--overlap-seeds", type=int, default=1, help="seeds of each overlapping-effect grid case")
     ap.add_argument("--real-like-seeds", type=int, default=3)
+    ap.add_argument("--real-like-imperfect-seeds", type=int, default=8,
+                    help="seeds of the imperfect real-like records and of their controls (0: skip)")
     ap.add_argument("--skip-held-out", action="store_true",
                     help="skip the overlapping-effect cases at a noise, rate, length and seeds off the grid")
     ap.add_argument("--held-out-seeds", type=int, nargs="+", default=list(HELD_OUT["seeds"]),
@@ -141,7 +148,7 @@ def main(argv=None):
                     help="seeds of each effect under all imperfections")
     args = ap.parse_args(argv)
     out = {"injected": [], "clean": {}, "real": [], "overlap": [], "real_like": [], "held_out": [],
-           "imperfect_clean": [], "imperfect_effect": []}
+           "imperfect_clean": [], "imperfect_effect": [], "real_like_imperfect": []}
     head = ("| case | injected | refine added | impulses | robust RMS | plain RMS | RMS of 10-s reading | "
             "ratio (robust) | unexplained |\n|---|---|---|---|---|---|---|---|---|")
     if not args.skip_injected:
@@ -167,6 +174,7 @@ def main(argv=None):
         ohead = ("| case | in the record | refine named | right | parameter (true) | within 50 % | drift line | "
                  "CV cut | share of systematic removed |\n|---|---|---|---|---|---|---|---|---|")
         sets = [("real_like", real_like_cases(tuple(range(args.real_like_seeds)))),
+                ("real_like_imperfect", real_like_imperfect_cases(tuple(range(args.real_like_imperfect_seeds)))),
                 ("overlap", grid_cases(tuple(range(args.overlap_seeds))))]
         if not args.skip_held_out:
             sets.append(("held_out", held_out_cases(tuple(args.held_out_seeds), tuple(args.held_out_kinds))))
@@ -181,8 +189,11 @@ def main(argv=None):
             print()
         out["overlap_summary"] = overlap_summary(out["overlap"] + out["real_like"])
         out["held_out_summary"] = overlap_summary(out["held_out"])
+        out["real_like_imperfect_summary"] = overlap_summary(out["real_like_imperfect"], kind_end=":")
         for title, summary in (("grid and real-like", out["overlap_summary"]),
-                               ("held out", out["held_out_summary"])):
+                               ("held out", out["held_out_summary"]),
+                               ("real-like, imperfect (controls: no physical effect)",
+                                out["real_like_imperfect_summary"])):
             print(title)
             for kind, k in summary.items():
                 print(f"  {kind}: named right {k['named_right']}/{k['cases']}, parameters within 50 % "
