@@ -24,6 +24,7 @@ from ._cross_validation import cv_residual, rms
 from ._diagnostics import candidate_relations, residual_diagnostics
 from ._joint import candidate_of, effect_shares, member_not_needed, order_trials, pair_trials, redrift_trials
 from ._options import Options
+from ._random_walk import SLOW_IN_TIME, random_walk_check
 from ._result import Result, Step
 from ._shape import shape_trials
 from ._stopping import at_search_edge, judge, not_physical, stop_test
@@ -123,7 +124,8 @@ def _loop(data, used, impulses, opts):
                    if fx.FAMILIES[f].unavailable(data)}
     diag_before = residual_diagnostics(data, model.residual, opts.test_blocks)
     relations = candidate_relations(data, model)
-    steps, rejected, at_edge, not_claimed, dropped = [], [], [], [], []
+    steps, rejected, at_edge, not_claimed, dropped, walk_failed = [], [], [], [], [], []
+    walk_excluded = set()
     shaped = False
 
     def admissible(fam, spec):
@@ -133,7 +135,8 @@ def _loop(data, used, impulses, opts):
         tried, at_edge, not_claimed = [], [], []
         for name in opts.families:
             fam = fx.FAMILIES[name]
-            if name in model.spec.names() or fam.unavailable(data) or name in {d["effect"] for d in dropped}:
+            if (name in model.spec.names() or fam.unavailable(data) or name in {d["effect"] for d in dropped}
+                    or name in walk_excluded):
                 continue
             for v in fam.variants:
                 trial = fx.fit_param(data, model.spec, fam, v)
@@ -222,12 +225,28 @@ def _loop(data, used, impulses, opts):
                          "cv_rms_now": cv_old, "cv_gain": 1.0 - rms(e_cv_new) / cv_old,
                          **verdict, "kept_model_cv_worse": True}]
             break
+        slow = tuple(n for n in names if n in SLOW_IN_TIME)
+        if slow and opts.random_walk_check:
+            # claimed only if it also stands with a random-walk zero
+            # estimated with it (_random_walk); if not, it is not tried
+            # again and the loop goes on without it (a real lag the false
+            # hysteresis stood in front of is still found)
+            walk = random_walk_check(data, new_model, slow, per_report)
+            walk["p_threshold"] = verdict["p_threshold"]
+            if not walk["p_value"] < walk["p_threshold"]:
+                walk_failed.append({"effect": name, "variant": variant, "cv_rms": rms(e_cv_new),
+                                    "cv_rms_now": cv_old, "cv_gain": 1.0 - rms(e_cv_new) / cv_old,
+                                    **verdict, "random_walk": walk})
+                walk_excluded.update(slow)
+                continue
+            verdict = {**verdict, "random_walk": walk}
         for n, p in zip(names, params):
             steps.append(Step(n, p, model.rms(data.mask), new_model.rms(data.mask),
                               cv_old, rms(e_cv_new), verdict["p_value"], summary,
                               verdict["cv_systematic_now"],
                               robust.systematic_rms(e_cv_new, per_report),
-                              judged_with=[m for m in names if m != n]))
+                              judged_with=[m for m in names if m != n],
+                              random_walk=verdict.get("random_walk") if n in slow else None))
         model, e_cv = new_model, e_cv_new
         gone = _no_longer_needed(data, model, opts, per_report, n_families)
         if gone is not None:
@@ -240,7 +259,7 @@ def _loop(data, used, impulses, opts):
             dropped.append({**gone, "with": model.spec.names()})
     _final_parameters(steps, model)
     return Result(data=data, base=base, final=model, base_order_cv=order_cv, steps=steps,
-                  rejected=rejected, at_edge=at_edge, base_cv_rms=base_cv, final_cv_rms=rms(e_cv),
+                  rejected=walk_failed + rejected, at_edge=at_edge, base_cv_rms=base_cv, final_cv_rms=rms(e_cv),
                   diagnostics_before=diag_before,
                   diagnostics_after=residual_diagnostics(data, model.residual, opts.test_blocks),
                   relations_before=relations, unavailable=unavailable, test=stop_test(opts),

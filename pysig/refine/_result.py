@@ -23,6 +23,7 @@ class Step:
     cv_systematic_before: float = float("nan")
     cv_systematic_after: float = float("nan")
     judged_with: list = field(default_factory=list)   # the effects added together with this one
+    random_walk: dict = None      # a slow-in-time effect's test under a random-walk zero
 
     def as_dict(self):
         return {"effect": self.effect, "params": self.params,
@@ -31,8 +32,8 @@ class Step:
                 "cv_systematic_before": self.cv_systematic_before,
                 "cv_systematic_after": self.cv_systematic_after,
                 "p_value": self.p_value, "candidates": self.candidates,
-                "judged_with": self.judged_with, "nuisance": fx.FAMILIES[self.effect].nuisance
-                if self.effect in fx.FAMILIES else False}
+                "judged_with": self.judged_with, "random_walk": self.random_walk,
+                "nuisance": fx.FAMILIES[self.effect].nuisance if self.effect in fx.FAMILIES else False}
 
 
 @dataclass

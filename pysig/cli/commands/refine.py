@@ -222,7 +222,20 @@ def format_table(name, result, start=None):
     if rep["final_offset"] and any(s["effect"] == "offset_shape" for s in rep["steps"]):
         lines.append(f"  offset shape: {rep['final_offset']}")
     lines += drift_and_share_lines(rep)
+    for s in rep["steps"]:
+        if s.get("random_walk"):
+            w = s["random_walk"]
+            lines.append(f"  {s['effect']} under a random-walk drift: p = {_p_text(w['p_value'])} (needs < "
+                         f"{w['p_threshold']:.2g}; the walk's step per {w['block_s']:.3g} s "
+                         f"{w['level_sd']:.3g})")
     for r in rep["not_added"]:
+        if "random_walk" in r:
+            w = r["random_walk"]
+            lines.append(f"  not added: {w['effect']} (under a random-walk drift p = {_p_text(w['p_value'])}, "
+                         f"needs < {w['p_threshold']:.2g}; blocked CV p = {_p_text(r['p_value'])}, systematic "
+                         f"gain {100 * r['systematic_gain']:.1f} %: a zero that wanders with the "
+                         f"temperature's slow swings explains it as well)")
+            continue
         lines.append(f"  not added: {_fmt_variant(r)} (systematic gain "
                      f"{100 * r['systematic_gain']:.1f} %, removed {r['systematic_removed']:.3g} vs "
                      f"reading noise {r['reading_noise']:.3g}, p = {_p_text(r['p_value'])}, needs < "
