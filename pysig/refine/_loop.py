@@ -12,7 +12,10 @@ the device.  A candidate whose fitted
 time constant or width sits at the top of its search range is not tried
 (_stopping.at_search_edge).  After each step the drift's knots are chosen
 again, and an effect added earlier that no longer carries a material part
-of the gain is taken out (and not tried again)."""
+of the gain is taken out (and not tried again).  A hysteresis or a warm-up
+(slow in time, what a wandering zero imitates) is claimed only if it also
+stands with a random-walk zero estimated with it (_random_walk); one that
+does not is not tried again."""
 from dataclasses import replace
 
 import numpy as np
@@ -201,8 +204,7 @@ def _loop(data, used, impulses, opts):
                             if rechosen else
                             {"effect": " + ".join(name), "variant": list(variant), "cv_rms": cv_new}]
         if not ok:
-            rejected = [{"effect": name, "variant": variant, "cv_rms": cv_new, "cv_rms_now": cv_old,
-                         "cv_gain": 1.0 - cv_new / cv_old if cv_old > 0 else 0.0, **verdict}]
+            rejected = [_not_added(name, variant, cv_new, cv_old, verdict)]
             break
         names = name if isinstance(name, tuple) else (name,)
         if name == "offset_shape":
@@ -221,9 +223,7 @@ def _loop(data, used, impulses, opts):
         e_cv_new = cv_residual(data, new_model.spec, opts)   # CV of the model actually kept
         if not rms(e_cv_new) < cv_old:
             # the per-fold parameter choice won, the model as kept does not
-            rejected = [{"effect": name, "variant": variant, "cv_rms": rms(e_cv_new),
-                         "cv_rms_now": cv_old, "cv_gain": 1.0 - rms(e_cv_new) / cv_old,
-                         **verdict, "kept_model_cv_worse": True}]
+            rejected = [_not_added(name, variant, rms(e_cv_new), cv_old, verdict, kept_model_cv_worse=True)]
             break
         slow = tuple(n for n in names if n in SLOW_IN_TIME)
         if slow and opts.random_walk_check:
@@ -234,9 +234,7 @@ def _loop(data, used, impulses, opts):
             walk = random_walk_check(data, new_model, slow, per_report)
             walk["p_threshold"] = verdict["p_threshold"]
             if not walk["p_value"] < walk["p_threshold"]:
-                walk_failed.append({"effect": name, "variant": variant, "cv_rms": rms(e_cv_new),
-                                    "cv_rms_now": cv_old, "cv_gain": 1.0 - rms(e_cv_new) / cv_old,
-                                    **verdict, "random_walk": walk})
+                walk_failed.append(_not_added(name, variant, rms(e_cv_new), cv_old, verdict, random_walk=walk))
                 walk_excluded.update(slow)
                 continue
             verdict = {**verdict, "random_walk": walk}
@@ -268,6 +266,13 @@ def _loop(data, used, impulses, opts):
                   shares=effect_shares(data, model, e_cv, opts, per_report) if model.spec.effects else [],
                   base_cv_systematic=robust.systematic_rms(e_base, per_report),
                   final_cv_systematic=robust.systematic_rms(e_cv, per_report))
+
+
+def _not_added(name, variant, cv_new, cv_old, verdict, **why):
+    """The report's entry for a candidate not added: its CV RMS against the
+    current model's, the test's verdict, and why (when not the test)."""
+    return {"effect": name, "variant": variant, "cv_rms": cv_new, "cv_rms_now": cv_old,
+            "cv_gain": 1.0 - cv_new / cv_old if cv_old > 0 else 0.0, **verdict, **why}
 
 
 def _final_parameters(steps, model):
