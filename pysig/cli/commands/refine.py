@@ -13,6 +13,7 @@ import json
 import os
 import re
 import sys
+from dataclasses import replace
 
 import numpy as np
 
@@ -264,12 +265,13 @@ def run(args):
         raise RangeError(f"refine: --report-s must be > 0, got {args.report_s}")
     if base is not None and not args.temp:
         raise InputFileError("refine: --model needs the temperature column (--temp)")
+    # progress on a terminal only (a long log takes minutes; logs and pipes stay clean)
     opts = rf.Options(folds=args.folds, alpha=args.alpha, min_gain=args.min_gain,
-                      report_s=args.report_s, base=base)
+                      report_s=args.report_s, base=base, progress=None)
     reports, results = {}, {}
     for i, name in enumerate(measured):
         data = build_data(joined, t, measured, refs, i, args.temp, args.inputs, starts)
-        res = rf.refine(data, opts)
+        res = rf.refine(data, replace(opts, label=f"refine {name}"))
         results[name] = res
         reports[name] = res.report()
         print(format_table(name, res, start))
