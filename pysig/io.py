@@ -25,7 +25,7 @@ Output is written to a temporary file beside the target and renamed into
 place, so a failure never leaves a partial file (see `atomic_path`).
 Streaming (bounded memory, chunk by chunk) is in pysig.io_stream."""
 
-__all__ = ["csv_delimiter", "MISSING_VALUES", "MISSING_TEXT", "read_csv", "read_table", "read_header", "write_csv", "read_json", "write_json", "atomic_output", "atomic_path", "check_time_column", "check_finite", "numeric_column", "from_numpy", "to_table", "row_label", "is_parquet"]
+__all__ = ["csv_delimiter", "MISSING_VALUES", "MISSING_TEXT", "read_csv", "read_table", "read_header", "write_csv", "read_json", "write_json", "atomic_output", "atomic_path", "check_time_column", "read_time_column", "TIME_UNITS", "check_finite", "numeric_column", "from_numpy", "to_table", "row_label", "is_parquet"]
 import csv
 import json
 import os
@@ -447,6 +447,108 @@ def check_time_column(path, name, t):
         raise InputFileError(
             f"{path}: row {row_label(path, i + 1)}, column '{name}': {what} time "
             f"{float(t[i + 1])!r} after {float(t[i])!r}")
+
+
+TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6}
+
+
+def _as_seconds(timestamps):
+    """A pyarrow timestamp array as float64 seconds since 1970 (its own clock
+    when it has no zone)."""
+    micro = pc.cast(timestamps.cast(pa.timestamp("us", tz=timestamps.type.tz)), pa.int64())
+    return float64_values(micro) * 1e-6
+
+
+def _parse_date_times(path, name, texts):
+    """Seconds of a text column of ISO 8601 date-times: all without a zone
+    (read on their own clock) or all with one (converted to UTC)."""
+    trimmed = pc.utf8_trim_whitespace(texts)
+    for typ in (pa.timestamp("us"), pa.timestamp("us", tz="UTC")):
+        try:
+            return _as_seconds(pc.cast(trimmed, typ))
+        except (pa.ArrowInvalid, pa.ArrowNotImplementedError):
+            pass
+    # name the first cell that neither form reads
+    for i in range(len(trimmed)):
+        cell = trimmed[i].as_py()
+        if cell is None:
+            raise NonFiniteError(f"{path}: row {row_label(path, i)}, column '{name}': {MISSING_TEXT}")
+        ok = False
+        for typ in (pa.timestamp("us"), pa.timestamp("us", tz="UTC"), pa.float64()):
+            try:
+                pc.cast(pa.array([cell]), typ)
+                ok = True
+            except (pa.ArrowInvalid, pa.ArrowNotImplementedError):
+                pass
+        if not ok:
+            raise InputFileError(f"{path}: row {row_label(path, i)}, column '{name}': not a number nor an "
+                                 f"ISO 8601 date-time (2026-03-01T12:00:00, optional fraction and zone): {cell!r}")
+    raise InputFileError(f"{path}: column '{name}' mixes numbers, date-times with a zone (Z, +02:00) and "
+                         f"without one: give one kind of time throughout")
+
+
+def read_time_column(path, name, unit=None):
+    """Read a time column in seconds: numbers (in `unit`) or date-times.
+
+    Parameters
+    ----------
+    path : path-like
+        A CSV or Parquet file.
+    name : str
+        The time column.
+    unit : {"s", "ms", "us"}, optional
+        The unit of a numeric column (seconds when None).  Date-times carry
+        their own unit, so giving "ms" or "us" for them is an error.
+
+    Returns
+    -------
+    (ndarray, str)
+        float64 seconds (date-times: since 1970, on their own clock when
+        they carry no zone, in UTC when they do) and the column's kind,
+        "number" or "date-time".  Not checked for order: see
+        `check_time_column`.
+
+    Raises
+    ------
+    InputFileError
+        A cell that is neither a number nor an ISO 8601 date-time, a column
+        mixing kinds, or a unit other than seconds given for date-times.
+    NonFiniteError
+        A missing or infinite time.
+
+    Examples
+    --------
+    >>> _ = open("log.csv", "w").write("time,x\\n2026-03-01T12:00:00,1\\n2026-03-01T12:00:02.5,2\\n")
+    >>> t, kind = read_time_column("log.csv", "time")
+    >>> kind, t - t[0]
+    ('date-time', array([0. , 2.5]))
+    """
+    table = read_table(path, [name], numeric=[])
+    column = table[name]
+    column = column.chunk(0) if column.num_chunks == 1 else column.combine_chunks()
+    typ = column.type
+    if pa.types.is_timestamp(typ) or pa.types.is_date(typ):
+        kind = "date-time"
+        if pa.types.is_date(typ):
+            column = pc.cast(column, pa.timestamp("us"))
+        if column.null_count:
+            i = int(np.flatnonzero(np.asarray(column.is_null()))[0])
+            raise NonFiniteError(f"{path}: row {row_label(path, i)}, column '{name}': {MISSING_TEXT}")
+        t = _as_seconds(column)
+    elif pa.types.is_string(typ) or pa.types.is_large_string(typ):
+        if first_unconvertible(column) is None:
+            kind, t = "number", numeric_column(path, name, column)
+        else:
+            kind, t = "date-time", _parse_date_times(path, name, column)
+    else:
+        kind, t = "number", numeric_column(path, name, column)
+    check_finite(path, name, t)
+    if kind == "date-time":
+        if unit not in (None, "s"):
+            raise InputFileError(f"{path}: column '{name}' holds date-times, which carry their own unit: "
+                                 f"drop --time-unit {unit}")
+        return t, kind
+    return t * TIME_UNITS[unit or "s"], kind
 
 
 # ---- atomic output -----------------------------------------------------------

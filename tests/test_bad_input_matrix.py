@@ -182,6 +182,11 @@ REFINE_HEADER = "t,temp,x,ref\n"
 REFINE = [",".join(r) for r in refine_rows()]
 
 
+# the same rows timed by ISO 8601 date-times, one second apart
+ISO_REFINE = [f"2026-03-01T12:{int(r.split(',')[0]) // 60:02d}:{int(r.split(',')[0]) % 60:02d}," + r.split(",", 1)[1]
+              for r in REFINE]
+
+
 def _with_row(rows, i, row):
     return rows[:i] + [row] + rows[i:]
 
@@ -390,6 +395,12 @@ CASES += [
      NonFiniteError, ["in.csv", "'counts'", "missing value"]),
     ("refine-empty-reading", case_text("refine", REFINE_HEADER + "\n".join(_with_row(REFINE, 10, "10.5,21,,0")) + "\n"),
      NonFiniteError, ["in.csv", "row 12", "'x'", "missing value"]),
+    # a time column of date-times: ISO 8601 only, and it carries its own unit
+    ("refine-time-not-iso", case_text("refine", REFINE_HEADER + "\n".join(_with_row(ISO_REFINE, 10, "01/03/2026 12:00:10,21,63,0")) + "\n"),
+     InputFileError, ["in.csv", "row 12", "'t'", "ISO 8601", "01/03/2026"]),
+    ("refine-time-unit-for-date-times", case_text("refine", REFINE_HEADER + "\n".join(ISO_REFINE) + "\n",
+                                                  extra=["--time-unit", "ms"]),
+     InputFileError, ["in.csv", "'t'", "date-times", "drop --time-unit ms"]),
     ("filter-bad-delimiter", case_text("filter", WEIGH, extra=["--delimiter", "|"]),
      InputFileError, ["--delimiter"]),
     # the reading's value scale and the units the file carries

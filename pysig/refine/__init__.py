@@ -10,7 +10,7 @@ runs on the device (csrc/refine), from the NVM image written here.
 
 ===================  ==========================================================
 refine               the loop: base model, candidates, stopping test; a Result
-Options              folds, guard band, significance, smallest gain, families
+Options              folds, guard band, significance, smallest gain, families, progress bar
 FitData              one measured column with its times, temperature, reference
 plateau_reference    a reference from the held plateaus of a log without one
 stop_test            the stopping rule in words (for reports)

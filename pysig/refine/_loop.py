@@ -19,6 +19,7 @@ does not is not tried again."""
 from dataclasses import replace
 
 import numpy as np
+from tqdm import tqdm
 
 from . import _effect_models as fx
 from . import _robust as robust
@@ -80,17 +81,22 @@ def refine(data, opts=None):
     if data.mask.sum() < 3 * opts.folds:
         raise InsufficientDataError(
             f"refine: {int(data.mask.sum())} usable samples; need at least {3 * opts.folds}")
-    screened, used, impulses = screen_impulses(data, opts)
-    result = _confirmed_loop(screened, used, impulses, opts)
-    if opts.impulse_k is None or not result.steps:
-        return result
-    again = robust.impulse_mask(result.final.residual, used, opts.impulse_k)
-    if np.array_equal(again, impulses):
-        return result
-    return _confirmed_loop(replace(data, mask=used & ~again), used, again, opts)
+    # a long record takes minutes: the bar counts the models fitted and
+    # names the step and the candidate being tried
+    with tqdm(desc=opts.label, unit=" fits", disable=(None if opts.progress is None else not opts.progress),
+              leave=False, dynamic_ncols=True) as bar:
+        screened, used, impulses = screen_impulses(data, opts)
+        result = _confirmed_loop(screened, used, impulses, opts, bar)
+        if opts.impulse_k is None or not result.steps:
+            return result
+        again = robust.impulse_mask(result.final.residual, used, opts.impulse_k)
+        if np.array_equal(again, impulses):
+            return result
+        bar.set_postfix_str("again, impulses screened on the refined residual")
+        return _confirmed_loop(replace(data, mask=used & ~again), used, again, opts, bar)
 
 
-def _confirmed_loop(data, used, impulses, opts):
+def _confirmed_loop(data, used, impulses, opts, bar):
     """The loop, then each hysteresis or warm-up of its final model (slow in
     time, what a wandering zero imitates) tested with the model's smooth
     drift replaced by a random-walk zero estimated with it, at the
@@ -99,7 +105,7 @@ def _confirmed_loop(data, used, impulses, opts):
     front of is then found), and the report says why it was not added."""
     failed = []
     while True:
-        result = _loop(data, used, impulses, opts)
+        result = _loop(data, used, impulses, opts, bar)
         if not opts.random_walk_check:
             return result
         failing = []
@@ -118,6 +124,7 @@ def _confirmed_loop(data, used, impulses, opts):
                                if s.cv_systematic_before > 0 else 0.0},
                               random_walk=s.random_walk) for s in failing]
         opts = replace(opts, families=tuple(f for f in opts.families if f not in {s.effect for s in failing}))
+        bar.set_postfix_str(f"again without {', '.join(s.effect for s in failing)} (random-walk check)")
 
 
 def _first_passing(data, trials, e_cv, opts, per_report, n_families, material_in_trial=False,
@@ -145,7 +152,7 @@ def _first_passing(data, trials, e_cv, opts, per_report, n_families, material_in
     return None
 
 
-def _loop(data, used, impulses, opts):
+def _loop(data, used, impulses, opts, bar):
     per_report = robust.samples_per_report(data.dt, opts.report_s)
     t_sigma = robust.white_sigma(np.where(data.mask, data.T, np.nan)) if data.T is not None else 0.0
     spec, order_cv = base_spec(data, opts)
@@ -163,13 +170,15 @@ def _loop(data, used, impulses, opts):
     def admissible(fam, spec):
         return at_search_edge(data, fam, spec) is None and not_physical(data, fam, spec, opts, t_sigma) is None
 
-    for _ in range(opts.max_steps):
+    for step_no in range(1, opts.max_steps + 1):
         tried, at_edge, not_claimed = [], [], []
         for name in opts.families:
             fam = fx.FAMILIES[name]
             if name in model.spec.names() or fam.unavailable(data) or name in {d["effect"] for d in dropped}:
                 continue
             for v in fam.variants:
+                bar.set_postfix_str(f"step {step_no}: {name}")
+                bar.update()
                 trial = fx.fit_param(data, model.spec, fam, v)
                 edge = at_search_edge(data, fam, trial.spec)
                 if edge is not None:
@@ -204,6 +213,7 @@ def _loop(data, used, impulses, opts):
         n_families = len({n for _, n, _, _, _ in tried})
         ok, verdict = judge(e_cv, e_new, opts, per_report, n_families)
         if not ok:
+            bar.set_postfix_str(f"step {step_no}: {name} with its own offset order, drift knots, in pairs")
             # the offset order chosen again with the newcomer in: the order
             # chosen without it can be too low for it to predict held-out blocks
             found = _first_passing(data, order_trials(data, tried, opts), e_cv, opts, per_report, n_families)

@@ -1,5 +1,6 @@
 """The loop's settings and defaults: folds, guard band, significance,
-smallest gain, the length of a reported reading, the families to try."""
+smallest gain, the length of a reported reading, the families to try,
+whether to show progress."""
 from dataclasses import dataclass
 
 from . import _effect_models as fx
@@ -32,3 +33,6 @@ class Options:
                                             # random-walk zero (pysig.refine._random_walk)
     base: tuple = None                      # the starting model ("poly", order) or ("table", knots),
                                             # e.g. the one `pysig fit` chose; None: the order by CV
+    progress: bool = False                  # a progress bar (tqdm) on stderr: True, False, or None
+                                            # for one only when stderr is a terminal
+    label: str = "refine"                   # the progress bar's name (e.g. the column)

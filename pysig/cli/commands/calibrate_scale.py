@@ -12,7 +12,7 @@ solver as the temperature fit.  Two inputs:
   in the log itself (pysig.weigh.plateaus_at_masses, the plateau
   finder of `pysig demo`), each load's plateaus are matched to its mass, and
   the line is fitted through their median readings.  The rate comes from a
-  time column in seconds (--time) or --rate.
+  time column (--time: seconds or ISO 8601 date-times) or --rate.
 
 Prints the sensitivity and, with three or more distinct masses, the
 linearity error (a line through two masses fits them whatever the cell
@@ -22,7 +22,7 @@ mass out) and sig_scale_init_f."""
 import numpy as np
 
 from ...errors import InputFileError, InsufficientDataError, RangeError, SaturationError
-from ...io import atomic_output, check_time_column, read_csv
+from ...io import atomic_output, check_time_column, read_csv, read_time_column
 from ...weigh import calibrate, first_saturated, plateaus_at_masses, saturated_count
 
 
@@ -42,7 +42,7 @@ def register(sub):
     p.add_argument("--column", help="log: the raw readings column (with --masses)")
     p.add_argument("--masses", type=_masses, metavar="M1,M2,...",
                    help="log: the masses put on, in the order the loads first appear")
-    p.add_argument("--time", help="log: time column in seconds (gives the rate)")
+    p.add_argument("--time", help="log: time column in seconds or ISO 8601 date-times (gives the rate)")
     p.add_argument("--rate", type=float, help="log: samples per second (instead of --time)")
     p.add_argument("--min-plateau-s", type=float, default=3.0,
                    help="log: shortest still load, seconds (default 3)")
@@ -63,15 +63,14 @@ def _from_log(args):
     """(readings, masses, what) from a raw log: the plateaus it holds."""
     if (args.time is None) == (args.rate is None):
         raise InputFileError("a log needs its rate: give --time COLUMN (seconds) or --rate HZ")
-    cols = [args.column] + ([args.time] if args.time else [])
-    d = read_csv(args.input, cols)
-    x = d[args.column]
+    x = read_csv(args.input, [args.column])[args.column]
     _check_saturation(args.input, args.column, x)
     if args.time:
-        check_time_column(args.input, args.time, d[args.time])
+        t, _ = read_time_column(args.input, args.time)
+        check_time_column(args.input, args.time, t)
         if x.size < 2:
             raise InsufficientDataError(f"{args.input}: {x.size} rows, a log needs at least 2")
-        rate = 1.0 / float(np.median(np.diff(d[args.time])))
+        rate = 1.0 / float(np.median(np.diff(t)))
     else:
         rate = args.rate
     if not (np.isfinite(rate) and rate > 0):

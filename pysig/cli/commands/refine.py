@@ -7,18 +7,20 @@ residual points at, add it while it significantly lowers the out-of-sample
 and size, its temperature and reading columns unless --temp/--columns say
 otherwise) instead of an offset order chosen here.  Times are in seconds
 unless --time-unit says ms or us; without it, a sample interval or a column
-name that suggests milliseconds or microseconds gives a warning."""
+name that suggests milliseconds or microseconds gives a warning.  A time
+column of ISO 8601 date-times (a logger's time stamps) is read as such."""
 import json
 import os
 import re
 import sys
+from dataclasses import replace
 
 import numpy as np
 
 from ... import refine as rf
 from ...refine import FitData
 from ...errors import InputFileError, InsufficientDataError, RangeError
-from ...io import atomic_output, check_time_column, read_csv
+from ...io import TIME_UNITS, atomic_output, check_time_column, read_csv, read_time_column
 
 
 def _names(values):
@@ -33,7 +35,8 @@ def register(sub):
                        description=__doc__)
     p.add_argument("inputs", nargs="+", metavar="IN.csv",
                    help="CSV file(s); several files are joined end to end in time")
-    p.add_argument("--time", help="time column; default: the sample index")
+    p.add_argument("--time", help="time column: numbers (see --time-unit) or ISO 8601 date-times "
+                                     "(2026-03-01T12:00:00, optional fraction and zone); default: the sample index")
     p.add_argument("--time-unit", choices=sorted(TIME_UNITS), default=None,
                    help="the time column's unit (default s; a warning when it looks like ms or us)")
     p.add_argument("--model", metavar="model.json",
@@ -58,7 +61,6 @@ def register(sub):
     p.set_defaults(func=run)
 
 
-TIME_UNITS = {"s": 1.0, "ms": 1e-3, "us": 1e-6}
 SLOW_INTERVAL_S = 10.0          # a median interval this long in a log spanning ...
 LONG_LOG_S = 86400.0            # ... more than a day is more likely ms (or us) than s
 
@@ -98,19 +100,19 @@ def load(args):
     refs = _names(args.ref)
     if refs and len(refs) not in (1, len(measured)):
         raise InputFileError(f"refine: {len(refs)} --ref columns for {len(measured)} measured columns")
-    wanted = list(dict.fromkeys(measured + refs + [c for c in (args.time, args.temp) if c]))
+    wanted = list(dict.fromkeys(measured + refs + [c for c in (args.temp,) if c]))
     parts, t_all, t_end, starts = [], [], None, []
     for path in args.inputs:
         cols = read_csv(path, wanted)
         n = next(iter(cols.values())).size
         if args.time:
-            t = cols[args.time]
+            # numbers in --time-unit, or ISO 8601 date-times (their own unit)
+            t, kind = read_time_column(path, args.time, args.time_unit)
             check_time_column(path, args.time, t)
-            if args.time_unit is None:
+            if args.time_unit is None and kind == "number":
                 warning = time_unit_warning(args.time, t)
                 if warning:
                     print(f"warning: {path}: {warning}", file=sys.stderr)
-            t = t * TIME_UNITS[args.time_unit or "s"]
         else:
             t = np.arange(n, dtype=float)
         if t_end is not None:          # join end to end, one median interval apart
@@ -282,12 +284,13 @@ def run(args):
         raise RangeError(f"refine: --report-s must be > 0, got {args.report_s}")
     if base is not None and not args.temp:
         raise InputFileError("refine: --model needs the temperature column (--temp)")
+    # progress on a terminal only (a long log takes minutes; logs and pipes stay clean)
     opts = rf.Options(folds=args.folds, alpha=args.alpha, min_gain=args.min_gain,
-                      report_s=args.report_s, base=base)
+                      report_s=args.report_s, base=base, progress=None)
     reports, results = {}, {}
     for i, name in enumerate(measured):
         data = build_data(joined, t, measured, refs, i, args.temp, args.inputs, starts)
-        res = rf.refine(data, opts)
+        res = rf.refine(data, replace(opts, label=f"refine {name}"))
         results[name] = res
         reports[name] = res.report()
         print(format_table(name, res, start))
