@@ -12,7 +12,10 @@ the device.  A candidate whose fitted
 time constant or width sits at the top of its search range is not tried
 (_stopping.at_search_edge).  After each step the drift's knots are chosen
 again, and an effect added earlier that no longer carries a material part
-of the gain is taken out (and not tried again)."""
+of the gain is taken out (and not tried again).  A hysteresis or a warm-up
+(slow in time, what a wandering zero imitates) is claimed only if it also
+stands with a random-walk zero estimated with it (_random_walk); one that
+does not is not tried again."""
 from dataclasses import replace
 
 import numpy as np
@@ -25,6 +28,7 @@ from ._cross_validation import cv_residual, rms
 from ._diagnostics import candidate_relations, residual_diagnostics
 from ._joint import candidate_of, effect_shares, member_not_needed, order_trials, pair_trials, redrift_trials
 from ._options import Options
+from ._random_walk import SLOW_IN_TIME, random_walk_check
 from ._result import Result, Step
 from ._shape import shape_trials
 from ._stopping import at_search_edge, judge, not_physical, stop_test
@@ -82,14 +86,45 @@ def refine(data, opts=None):
     with tqdm(desc=opts.label, unit=" fits", disable=(None if opts.progress is None else not opts.progress),
               leave=False, dynamic_ncols=True) as bar:
         screened, used, impulses = screen_impulses(data, opts)
-        result = _loop(screened, used, impulses, opts, bar)
+        result = _confirmed_loop(screened, used, impulses, opts, bar)
         if opts.impulse_k is None or not result.steps:
             return result
         again = robust.impulse_mask(result.final.residual, used, opts.impulse_k)
         if np.array_equal(again, impulses):
             return result
         bar.set_postfix_str("again, impulses screened on the refined residual")
-        return _loop(replace(data, mask=used & ~again), used, again, opts, bar)
+        return _confirmed_loop(replace(data, mask=used & ~again), used, again, opts, bar)
+
+
+def _confirmed_loop(data, used, impulses, opts, bar):
+    """The loop, then each hysteresis or warm-up of its final model (slow in
+    time, what a wandering zero imitates) tested with the model's smooth
+    drift replaced by a random-walk zero estimated with it, at the
+    threshold it was added with (_random_walk).  One that fails is not
+    claimed: the loop runs again without its family (a lag it stood in
+    front of is then found), and the report says why it was not added."""
+    failed = []
+    while True:
+        result = _loop(data, used, impulses, opts, bar)
+        if not opts.random_walk_check:
+            return result
+        failing = []
+        for step in result.steps:
+            if step.effect not in SLOW_IN_TIME:
+                continue
+            step.random_walk = random_walk_check(data, result.final, (step.effect,), result.per_report)
+            step.random_walk["p_threshold"] = step.p_threshold
+            if not step.random_walk["p_value"] < step.p_threshold:
+                failing.append(step)
+        if not failing:
+            return replace(result, rejected=failed + result.rejected)
+        failed += [_not_added(s.effect, s.params.get("start_branch", 0), s.cv_rms_after, s.cv_rms_before,
+                              {"p_value": s.p_value, "p_threshold": s.p_threshold,
+                               "systematic_gain": 1.0 - s.cv_systematic_after / s.cv_systematic_before
+                               if s.cv_systematic_before > 0 else 0.0},
+                              random_walk=s.random_walk) for s in failing]
+        opts = replace(opts, families=tuple(f for f in opts.families if f not in {s.effect for s in failing}))
+        bar.set_postfix_str(f"again without {', '.join(s.effect for s in failing)} (random-walk check)")
 
 
 def _first_passing(data, trials, e_cv, opts, per_report, n_families, material_in_trial=False,
@@ -207,8 +242,7 @@ def _loop(data, used, impulses, opts, bar):
                             if rechosen else
                             {"effect": " + ".join(name), "variant": list(variant), "cv_rms": cv_new}]
         if not ok:
-            rejected = [{"effect": name, "variant": variant, "cv_rms": cv_new, "cv_rms_now": cv_old,
-                         "cv_gain": 1.0 - cv_new / cv_old if cv_old > 0 else 0.0, **verdict}]
+            rejected = [_not_added(name, variant, cv_new, cv_old, verdict)]
             break
         names = name if isinstance(name, tuple) else (name,)
         if name == "offset_shape":
@@ -227,16 +261,15 @@ def _loop(data, used, impulses, opts, bar):
         e_cv_new = cv_residual(data, new_model.spec, opts)   # CV of the model actually kept
         if not rms(e_cv_new) < cv_old:
             # the per-fold parameter choice won, the model as kept does not
-            rejected = [{"effect": name, "variant": variant, "cv_rms": rms(e_cv_new),
-                         "cv_rms_now": cv_old, "cv_gain": 1.0 - rms(e_cv_new) / cv_old,
-                         **verdict, "kept_model_cv_worse": True}]
+            rejected = [_not_added(name, variant, rms(e_cv_new), cv_old, verdict, kept_model_cv_worse=True)]
             break
         for n, p in zip(names, params):
             steps.append(Step(n, p, model.rms(data.mask), new_model.rms(data.mask),
                               cv_old, rms(e_cv_new), verdict["p_value"], summary,
                               verdict["cv_systematic_now"],
                               robust.systematic_rms(e_cv_new, per_report),
-                              judged_with=[m for m in names if m != n]))
+                              judged_with=[m for m in names if m != n],
+                              p_threshold=verdict["p_threshold"]))
         model, e_cv = new_model, e_cv_new
         gone = _no_longer_needed(data, model, opts, per_report, n_families)
         if gone is not None:
@@ -258,6 +291,13 @@ def _loop(data, used, impulses, opts, bar):
                   shares=effect_shares(data, model, e_cv, opts, per_report) if model.spec.effects else [],
                   base_cv_systematic=robust.systematic_rms(e_base, per_report),
                   final_cv_systematic=robust.systematic_rms(e_cv, per_report))
+
+
+def _not_added(name, variant, cv_new, cv_old, verdict, **why):
+    """The report's entry for a candidate not added: its CV RMS against the
+    current model's, the test's verdict, and why (when not the test)."""
+    return {"effect": name, "variant": variant, "cv_rms": cv_new, "cv_rms_now": cv_old,
+            "cv_gain": 1.0 - cv_new / cv_old if cv_old > 0 else 0.0, **verdict, **why}
 
 
 def _final_parameters(steps, model):

@@ -29,6 +29,8 @@ class Options:
     material: float = DEFAULT_MATERIAL
     impulse_k: float = robust.HAMPEL_K      # None: no impulse screening
     shape: bool = True                      # try a larger polynomial or a table for the offset
+    random_walk_check: bool = True          # a hysteresis or warm-up must also stand under a
+                                            # random-walk zero (pysig.refine._random_walk)
     base: tuple = None                      # the starting model ("poly", order) or ("table", knots),
                                             # e.g. the one `pysig fit` chose; None: the order by CV
     progress: bool = False                  # a progress bar (tqdm) on stderr: True, False, or None

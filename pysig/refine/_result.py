@@ -23,6 +23,8 @@ class Step:
     cv_systematic_before: float = float("nan")
     cv_systematic_after: float = float("nan")
     judged_with: list = field(default_factory=list)   # the effects added together with this one
+    p_threshold: float = float("nan")   # the test's threshold when it was added
+    random_walk: dict = None      # a slow-in-time effect's test under a random-walk zero
 
     def as_dict(self):
         return {"effect": self.effect, "params": self.params,
@@ -30,9 +32,9 @@ class Step:
                 "cv_rms_before": self.cv_rms_before, "cv_rms_after": self.cv_rms_after,
                 "cv_systematic_before": self.cv_systematic_before,
                 "cv_systematic_after": self.cv_systematic_after,
-                "p_value": self.p_value, "candidates": self.candidates,
-                "judged_with": self.judged_with, "nuisance": fx.FAMILIES[self.effect].nuisance
-                if self.effect in fx.FAMILIES else False}
+                "p_value": self.p_value, "p_threshold": self.p_threshold, "candidates": self.candidates,
+                "judged_with": self.judged_with, "random_walk": self.random_walk,
+                "nuisance": fx.FAMILIES[self.effect].nuisance if self.effect in fx.FAMILIES else False}
 
 
 @dataclass

@@ -238,6 +238,11 @@ def judge_case(truth, result):
             "drift_in_record": truth["drift"], "drift_reported": rep["drift"] is not None,
             "cv_cut": rep["base_cv_rms"] / rep["final_cv_rms"] if rep["final_cv_rms"] > 0 else float("inf"),
             "shares": {r["effect"]: r["share"] for r in rep["shares"]},
+            # the slow effects' test under a random-walk zero: claimed, or not added for it
+            "random_walk_p": {**{s["effect"]: s["random_walk"]["p_value"] for s in rep["steps"]
+                                 if s.get("random_walk")},
+                              **{r["random_walk"]["effect"] + " (not added)": r["random_walk"]["p_value"]
+                                 for r in rep["not_added"] if "random_walk" in r}},
             "unexplained": rep["unexplained"]["unexplained"]}
 
 

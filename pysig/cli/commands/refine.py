@@ -198,6 +198,12 @@ def _p_text(p):
     return "< 1e-16" if p < 1e-16 else f"{p:.2g}"
 
 
+def _p_is(p):
+    """"p = 0.02", or "p < 1e-16" for a bound."""
+    text = _p_text(p)
+    return f"p {text}" if text.startswith("<") else f"p = {text}"
+
+
 def format_table(name, result, start=None):
     rep = result.report()
     base = (f"base model {start}" if start else f"offset order {rep['base_model']['offset_order']}")
@@ -224,7 +230,20 @@ def format_table(name, result, start=None):
     if rep["final_offset"] and any(s["effect"] == "offset_shape" for s in rep["steps"]):
         lines.append(f"  offset shape: {rep['final_offset']}")
     lines += drift_and_share_lines(rep)
+    for s in rep["steps"]:
+        if s.get("random_walk"):
+            w = s["random_walk"]
+            lines.append(f"  {s['effect']} under a random-walk drift: {_p_is(w['p_value'])} (needs < "
+                         f"{w['p_threshold']:.2g}; the walk's step per {w['block_s']:.3g} s "
+                         f"{w['level_sd']:.3g})")
     for r in rep["not_added"]:
+        if "random_walk" in r:
+            w = r["random_walk"]
+            lines.append(f"  not added: {w['effect']} (under a random-walk drift {_p_is(w['p_value'])}, "
+                         f"needs < {w['p_threshold']:.2g}; blocked CV {_p_is(r['p_value'])}, systematic "
+                         f"gain {100 * r['systematic_gain']:.1f} %: a zero that wanders with the "
+                         f"temperature's slow swings explains it as well)")
+            continue
         lines.append(f"  not added: {_fmt_variant(r)} (systematic gain "
                      f"{100 * r['systematic_gain']:.1f} %, removed {r['systematic_removed']:.3g} vs "
                      f"reading noise {r['reading_noise']:.3g}, p = {_p_text(r['p_value'])}, needs < "
