@@ -72,3 +72,17 @@ def test_refine_starts_from_the_fitted_model(lag_run, tmp_path, capsys, spec, fa
     base = json.loads(out.read_text())["base_model"]
     assert (base["offset_family"], base["offset_order"]) == (family, size)
     assert "thermal_lag" in printed                 # the lag the model lacks is still found
+
+
+@pytest.mark.parametrize("dt, hours, warned", [
+    (60.0, 30.0, False),          # a day-long log at one sample a minute, in seconds
+    (300.0, 72.0, False),         # three days at one every 5 min
+    (1.0, 24.0 * 20, False),      # 20 days at 1 Hz
+    (2000.0, 9.3 * 24, True),     # 2-s samples in ms: "9 days" at 2000 "s"
+    (100.0, 14 * 24.0, True),     # 10 Hz in ms for 20 min
+    (5.0, 31 * 24.0, True),       # anything spanning more than a month
+])
+def test_the_unit_warning_spares_long_logs_at_a_minute_or_so(dt, hours, warned):
+    from pysig.cli.commands.refine import time_unit_warning
+    t = np.arange(0.0, hours * 3600.0, dt)
+    assert (time_unit_warning("t", t) is not None) == warned

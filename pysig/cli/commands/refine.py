@@ -61,13 +61,17 @@ def register(sub):
     p.set_defaults(func=run)
 
 
-SLOW_INTERVAL_S = 10.0          # a median interval this long in a log spanning ...
-LONG_LOG_S = 86400.0            # ... more than a day is more likely ms (or us) than s
+DAY_S = 86400.0
+# (median interval at least, span over), both read as seconds: a log more
+# likely in ms or us.  A bench or chamber log at a minute or so runs for a
+# day or two (no warning); the same numbers in ms span months.
+UNLIKELY_SECONDS = ((1000.0, DAY_S), (100.0, 7 * DAY_S), (0.0, 30 * DAY_S))
 
 
 def time_unit_warning(name, t):
     """A warning when seconds are unlikely: a name ending in ms/us, or a
-    median interval of >= 10 s in a log of more than a day (no time unit given)."""
+    sample interval and span that would make an unlikely log in seconds
+    (UNLIKELY_SECONDS; no time unit given)."""
     named = re.search(r"(^|[_\s\[(])(ms|us|µs)[\])]?$", name.lower())
     if named:
         unit = "ms" if named.group(2) == "ms" else "us"
@@ -75,10 +79,10 @@ def time_unit_warning(name, t):
                     f"(or --time-unit s to keep seconds)")
     if t.size > 1:
         dt, span = float(np.median(np.diff(t))), float(t[-1] - t[0])
-        if dt >= SLOW_INTERVAL_S and span > LONG_LOG_S:
+        if any(dt >= interval and span > longest for interval, longest in UNLIKELY_SECONDS):
             unit = "us" if dt >= 1e4 else "ms"
             return (f"time column '{name}': the median sample interval is {dt:g} s and the log spans "
-                    f"{span / 86400:.3g} days if it is in seconds; if it is in {unit}, give --time-unit {unit} "
+                    f"{span / DAY_S:.3g} days if it is in seconds; if it is in {unit}, give --time-unit {unit} "
                     f"(or --time-unit s to keep seconds)")
     return None
 
