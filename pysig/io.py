@@ -146,17 +146,19 @@ def require_columns(path, header, wanted):
 
 
 # ---- locating a bad cell -----------------------------------------------------
-def first_unconvertible(strings):
+def first_unconvertible(strings, to=None):
     """Index of the first cell of a string array that does not convert to
-    float64 (as pyarrow converts), or None.  Halves the range with one
-    vectorised cast per step: O(n) work, no Python loop over cells.  A
-    missing value (MISSING_VALUES) converts (to NaN)."""
+    `to` (float64 by default; as pyarrow converts), or None.  Halves the
+    range with one vectorised cast per step: O(n) work, no Python loop over
+    cells.  For float64 a missing value (MISSING_VALUES) converts (to NaN)."""
     strings = pc.utf8_trim_whitespace(strings)
-    strings = pc.if_else(pc.is_in(strings, pa.array(MISSING_VALUES)), "nan", strings)
+    if to is None:
+        to = pa.float64()
+        strings = pc.if_else(pc.is_in(strings, pa.array(MISSING_VALUES)), "nan", strings)
 
     def ok(lo, hi):
         try:
-            pc.cast(strings.slice(lo, hi - lo), pa.float64())
+            pc.cast(strings.slice(lo, hi - lo), to)
             return True
         except (pa.ArrowInvalid, pa.ArrowNotImplementedError):
             return False
@@ -463,28 +465,26 @@ def _parse_date_times(path, name, texts):
     """Seconds of a text column of ISO 8601 date-times: all without a zone
     (read on their own clock) or all with one (converted to UTC)."""
     trimmed = pc.utf8_trim_whitespace(texts)
-    for typ in (pa.timestamp("us"), pa.timestamp("us", tz="UTC")):
-        try:
+    naive, zoned = pa.timestamp("us"), pa.timestamp("us", tz="UTC")
+    first_bad = {}
+    for typ in (naive, zoned):
+        first_bad[typ] = first_unconvertible(trimmed, typ)
+        if first_bad[typ] is None:
             return _as_seconds(pc.cast(trimmed, typ))
-        except (pa.ArrowInvalid, pa.ArrowNotImplementedError):
-            pass
-    # name the first cell that neither form reads
-    for i in range(len(trimmed)):
-        cell = trimmed[i].as_py()
-        if cell is None:
-            raise NonFiniteError(f"{path}: row {row_label(path, i)}, column '{name}': {MISSING_TEXT}")
-        ok = False
-        for typ in (pa.timestamp("us"), pa.timestamp("us", tz="UTC"), pa.float64()):
-            try:
-                pc.cast(pa.array([cell]), typ)
-                ok = True
-            except (pa.ArrowInvalid, pa.ArrowNotImplementedError):
-                pass
-        if not ok:
-            raise InputFileError(f"{path}: row {row_label(path, i)}, column '{name}': not a number nor an "
-                                 f"ISO 8601 date-time (2026-03-01T12:00:00, optional fraction and zone): {cell!r}")
-    raise InputFileError(f"{path}: column '{name}' mixes numbers, date-times with a zone (Z, +02:00) and "
-                         f"without one: give one kind of time throughout")
+    # the cells before first_bad[typ] all read as typ, and no cell reads as
+    # both: so the later first_bad is the first cell that the form of the
+    # cells before it does not read; if the other form reads it, the column
+    # mixes the two, else that cell is the bad one
+    j = max(first_bad.values())
+    cell_j = trimmed.slice(j, 1)
+    if any(first_unconvertible(cell_j, typ) is None for typ in (naive, zoned)):
+        raise InputFileError(f"{path}: column '{name}' mixes date-times with a zone (Z, +02:00) and "
+                             f"without one: give one kind of time throughout")
+    cell = trimmed[j].as_py()
+    if cell is None or cell in MISSING_VALUES:
+        raise NonFiniteError(f"{path}: row {row_label(path, j)}, column '{name}': {MISSING_TEXT}")
+    raise InputFileError(f"{path}: row {row_label(path, j)}, column '{name}': not a number nor an "
+                         f"ISO 8601 date-time (2026-03-01T12:00:00, optional fraction and zone): {cell!r}")
 
 
 def read_time_column(path, name, unit=None):
@@ -527,16 +527,17 @@ def read_time_column(path, name, unit=None):
     column = table[name]
     column = column.chunk(0) if column.num_chunks == 1 else column.combine_chunks()
     typ = column.type
+    textual = pa.types.is_string(typ) or pa.types.is_large_string(typ)
+    if column.null_count and (textual or pa.types.is_timestamp(typ) or pa.types.is_date(typ)):
+        i = int(np.flatnonzero(np.asarray(column.is_null()))[0])
+        raise NonFiniteError(f"{path}: row {row_label(path, i)}, column '{name}': {MISSING_TEXT}")
     if pa.types.is_timestamp(typ) or pa.types.is_date(typ):
-        kind = "date-time"
-        if pa.types.is_date(typ):
-            column = pc.cast(column, pa.timestamp("us"))
-        if column.null_count:
-            i = int(np.flatnonzero(np.asarray(column.is_null()))[0])
-            raise NonFiniteError(f"{path}: row {row_label(path, i)}, column '{name}': {MISSING_TEXT}")
-        t = _as_seconds(column)
-    elif pa.types.is_string(typ) or pa.types.is_large_string(typ):
-        if first_unconvertible(column) is None:
+        kind, t = "date-time", _as_seconds(pc.cast(column, pa.timestamp("us")) if pa.types.is_date(typ)
+                                           else column)
+    elif textual:
+        # a column whose first cell is a number holds numbers (a bad cell
+        # among them is named as not a number)
+        if first_unconvertible(column.slice(0, 1)) is None:
             kind, t = "number", numeric_column(path, name, column)
         else:
             kind, t = "date-time", _parse_date_times(path, name, column)

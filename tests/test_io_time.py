@@ -11,7 +11,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from pysig.cli import main
-from pysig.errors import InputFileError
+from pysig.errors import InputFileError, NonFiniteError
 from pysig.io import read_time_column
 
 START = dt.datetime(2026, 3, 1, 12, 0, 0)
@@ -87,3 +87,15 @@ def test_refine_reads_date_times_as_it_reads_the_same_seconds(tmp_path):
     a, b = reports         # one measured column: the report itself
     assert a["effects_found"] == b["effects_found"] == ["thermal_lag"]
     assert [s["params"] for s in a["steps"]] == [s["params"] for s in b["steps"]]
+
+
+@pytest.mark.parametrize("cells, error, where", [
+    (["0", "1.5", "x"], InputFileError, "row 4, column 'when': not a number: 'x'"),
+    (["2026-03-01T12:00:00", "nan", "2026-03-01T12:00:02"], NonFiniteError, "row 3, column 'when': missing"),
+    (["2026-03-01T12:00:00Z", "2026-03-01T12:00:01Z", "01/03/2026 12:00"], InputFileError,
+     "row 4, column 'when': not a number nor an ISO 8601 date-time"),
+])
+def test_a_bad_time_cell_is_named_by_its_row(tmp_path, cells, error, where):
+    f = write(tmp_path / "a.csv", "when,x", [f"{c},1" for c in cells])
+    with pytest.raises(error, match=where):
+        read_time_column(f, "when")
